@@ -1,0 +1,121 @@
+//! The `polydem` command: run or check a scene file.
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polydem::scene::{Prepared, Scene};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    version,
+    about = "Discrete Element Method simulations of spheres and polyhedra"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene and write VTK (ParaView) and CSV output.
+    Run {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output folder [default: output/<scene name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Check a scene file and report what a run would do, without running it.
+    Check {
+        /// Scene file (TOML).
+        scene: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run { scene, out } => run(&scene, out),
+        Command::Check { scene } => check(&scene),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn prepare(scene: &Path) -> Result<Prepared, String> {
+    let scene = Scene::load(scene).map_err(|e| e.to_string())?;
+    scene.build().map_err(|e| e.to_string())
+}
+
+fn describe(scene: &Path, p: &Prepared) {
+    let w = &p.world;
+    let steps = polydem::run::total_steps(p);
+    println!("scene        {}", scene.display());
+    println!(
+        "bodies       {} ({} materials, {} plane walls)",
+        w.bodies.len(),
+        w.materials.len(),
+        w.planes.len()
+    );
+    let how = if p.automatic_time_step {
+        "auto".to_string()
+    } else {
+        format!("given; stable estimate {:.4e} s", p.estimate.seconds)
+    };
+    println!("time step    {:.4e} s ({how})", w.time_step);
+    println!("             estimate: {}", p.estimate.reason);
+    println!(
+        "duration     {} s = {steps} steps, output every {} s",
+        p.duration, p.output_interval
+    );
+    println!("threads      {}", w.threads());
+}
+
+fn check(scene: &Path) -> Result<(), String> {
+    let prepared = prepare(scene)?;
+    describe(scene, &prepared);
+    println!("scene is valid");
+    Ok(())
+}
+
+fn run(scene: &Path, out: Option<PathBuf>) -> Result<(), String> {
+    // Everything is validated before the output folder is created, so bad input never leaves a
+    // half-written folder behind.
+    let mut prepared = prepare(scene)?;
+    let out = out.unwrap_or_else(|| {
+        let stem = scene.file_stem().unwrap_or_default();
+        Path::new("output").join(stem)
+    });
+    describe(scene, &prepared);
+    println!("output       {}", out.display());
+
+    let steps = polydem::run::total_steps(&prepared);
+    let duration = prepared.duration;
+    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {percent:>3}% t = {msg} | {per_sec} | ETA {eta}")
+            .expect("the template is valid"),
+    );
+    let start = Instant::now();
+    let result = polydem::run::run(&mut prepared, &out, |w| {
+        bar.set_position(w.steps_done);
+        bar.set_message(format!("{:.4} / {duration} s", w.time));
+    });
+    bar.finish_and_clear();
+    result.map_err(|e| format!("writing output to '{}': {e}", out.display()))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let w = &prepared.world;
+    println!(
+        "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s",
+        w.steps_done,
+        (w.steps_done as f64 * w.bodies.len() as f64) / seconds.max(1e-9)
+    );
+    Ok(())
+}

@@ -1,0 +1,96 @@
+//! Rigid-body state, stored as arrays (structure of arrays).
+//!
+//! The step loop touches positions, velocities and forces of every body each step; keeping each
+//! quantity contiguous lets those loops vectorise and split across threads without gathering.
+//! Index `i` in every array is the same body. Bodies never move between indices during a step.
+
+use crate::math::{DQuat, DVec3};
+use crate::shape::Shape;
+
+/// Index of a shape in the world's shape table (bodies of equal shape share one entry).
+pub type ShapeId = u32;
+/// Index of a material in the world's material table.
+pub type MaterialId = u32;
+
+/// Everything needed to add one body to the world.
+#[derive(Clone, Debug)]
+pub struct BodyInit {
+    pub shape: Shape,
+    pub material: MaterialId,
+    pub position: DVec3,
+    pub orientation: DQuat,
+    pub velocity: DVec3,
+    pub angular_velocity: DVec3,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Bodies {
+    /// User-visible identifier, stable for the life of the body.
+    pub id: Vec<u64>,
+    pub shape: Vec<ShapeId>,
+    pub material: Vec<MaterialId>,
+    /// Radius of a sphere about the centre of mass enclosing the shape (the sphere's radius).
+    pub bounding_radius: Vec<f64>,
+
+    pub position: Vec<DVec3>,
+    /// Body frame → world frame.
+    pub orientation: Vec<DQuat>,
+    pub velocity: Vec<DVec3>,
+    /// Angular momentum in the world frame: the integrated rotational state (see `integrate`).
+    pub angular_momentum: Vec<DVec3>,
+    /// World-frame angular velocity, derived from the angular momentum after each update.
+    pub angular_velocity: Vec<DVec3>,
+
+    pub mass: Vec<f64>,
+    pub inv_mass: Vec<f64>,
+    /// Principal moments of inertia (body frame).
+    pub inertia: Vec<DVec3>,
+    pub inv_inertia: Vec<DVec3>,
+
+    /// Contact force and torque accumulated in the current step (world frame).
+    pub force: Vec<DVec3>,
+    pub torque: Vec<DVec3>,
+}
+
+impl Bodies {
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Appends a body; `mass` and `inertia` come from the shape's mass properties and density.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        id: u64,
+        shape: ShapeId,
+        material: MaterialId,
+        bounding_radius: f64,
+        mass: f64,
+        inertia: DVec3,
+        init: &BodyInit,
+    ) {
+        let orientation = init.orientation.normalize();
+        // L = R I Rᵀ ω, from the user-given world-frame angular velocity.
+        let omega_body = orientation.inverse() * init.angular_velocity;
+        let angular_momentum = orientation * (inertia * omega_body);
+        self.id.push(id);
+        self.shape.push(shape);
+        self.material.push(material);
+        self.bounding_radius.push(bounding_radius);
+        self.position.push(init.position);
+        self.orientation.push(orientation);
+        self.velocity.push(init.velocity);
+        self.angular_momentum.push(angular_momentum);
+        self.angular_velocity.push(init.angular_velocity);
+        self.mass.push(mass);
+        self.inv_mass.push(1.0 / mass);
+        self.inertia.push(inertia);
+        self.inv_inertia.push(inertia.recip());
+        self.force.push(DVec3::ZERO);
+        self.torque.push(DVec3::ZERO);
+    }
+}

@@ -1,0 +1,109 @@
+//! Contact laws: the force and moment of one contact from its kinematics and history.
+//!
+//! A law is composed of sub-laws, in the manner of LAMMPS' granular package (`granular_model.cpp`):
+//! an elastic normal law ([`normal`]), normal damping set from the coefficient of restitution
+//! ([`restitution`]), a tangential spring with Coulomb limit and history ([`tangential`]) and a
+//! rolling-resistance spring with its own limit ([`rolling`]). Each sub-law is a pure function of an
+//! explicit [`Kinematics`] value and the contact's [`History`]; the composition is in [`evaluate`].
+
+pub mod normal;
+pub mod restitution;
+pub mod rolling;
+pub mod tangential;
+
+use crate::math::DVec3;
+
+/// Elastic law of the normal force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NormalLaw {
+    /// Linear spring F = k δ, with `stiffness` k [N/m].
+    Linear { stiffness: f64 },
+    /// Hertz: F = 4/3 E* √R* δ^{3/2} (Hertz 1882; Johnson 1985, eq. 4.22). Tangential stiffness
+    /// after Mindlin (1949): k_t = 8 G* √(R* δ).
+    Hertz,
+}
+
+/// Contact parameters of one pair of materials, resolved before the run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairLaw {
+    pub normal: NormalLaw,
+    /// E* [Pa].
+    pub effective_youngs_modulus: f64,
+    /// G* [Pa].
+    pub effective_shear_modulus: f64,
+    pub restitution: f64,
+    pub friction: f64,
+    pub rolling_friction: f64,
+    /// k_t / k_n for the linear law.
+    pub tangential_stiffness_ratio: f64,
+    /// Dimensionless damping coefficient c (F_d = c √(m* S_n) δ̇), chosen so that a binary
+    /// collision rebounds with `restitution` exactly; see [`restitution`].
+    pub damping: f64,
+}
+
+/// Relative motion of the two bodies at one contact, in the world frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Kinematics {
+    /// Unit normal pointing from body j towards body i (the direction of the force on i).
+    pub normal: DVec3,
+    /// Overlap δ > 0 [m].
+    pub overlap: f64,
+    /// dδ/dt [m/s], positive while the bodies approach, predicted at the end of the step: the
+    /// damping force acts over the next half-kicks, so it must see the velocity of that moment,
+    /// not the half-step velocity (which lags by dt/2 and would bias the dissipation to first
+    /// order in dt).
+    pub overlap_rate: f64,
+    /// Tangential velocity of i relative to j at the contact point over the step just taken
+    /// (half-step velocity) [m/s]: the tangential spring stretches by exactly this times dt.
+    pub tangential_velocity: DVec3,
+    /// The same, predicted at the end of the step, for tangential damping [m/s].
+    pub tangential_velocity_end: DVec3,
+    /// ω_i − ω_j over the step just taken [rad/s].
+    pub relative_angular_velocity: DVec3,
+    /// R* = r_i r_j / (r_i + r_j) [m] (r_i for a sphere on a wall).
+    pub effective_radius: f64,
+    /// m* = m_i m_j / (m_i + m_j) [kg] (m_i for a body on a wall).
+    pub effective_mass: f64,
+}
+
+/// What a contact remembers between steps while it lasts.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct History {
+    /// Tangential spring elongation ξ [m].
+    pub tangential_spring: DVec3,
+    /// Rolling-resistance torque on body i [N m].
+    pub rolling_torque: DVec3,
+    /// Stiffnesses of the previous step: with Hertz–Mindlin they change with the overlap, and the
+    /// energy ledger must compare this step's spring energy with the one reported last step.
+    pub tangential_stiffness: f64,
+    pub rolling_stiffness: f64,
+}
+
+/// Force and torque the contact applies to body i (body j gets the reaction), and energy figures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Response {
+    /// Total contact force on i at the contact point [N].
+    pub force: DVec3,
+    /// Pure torque on i that is not the moment of `force` (rolling resistance) [N m].
+    pub torque: DVec3,
+    /// Normal force magnitude (≥ 0) [N].
+    pub normal_force: f64,
+    /// Elastic energy stored in the contact after this step [J].
+    pub elastic_energy: f64,
+    /// Energy dissipated by damping, sliding and rolling in this step [J].
+    pub dissipated: f64,
+}
+
+/// Evaluates the composed law for one contact over a step `dt`, updating its history.
+pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -> Response {
+    let n = normal::normal_force(law, k);
+    let t = tangential::tangential_force(law, k, &n, history, dt);
+    let r = rolling::rolling_torque(law, k, &n, history, dt);
+    Response {
+        force: k.normal * n.total + t.force,
+        torque: r.torque,
+        normal_force: n.total,
+        elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy,
+        dissipated: n.dissipated(k.overlap_rate, dt) + t.dissipated + r.dissipated,
+    }
+}

@@ -1,0 +1,61 @@
+//! The energy ledger: where the energy of the system is at a given moment.
+//!
+//! Kinetic + gravitational potential + elastic + dissipated is constant in an isolated system; the
+//! drift of this sum measures the error of the time integration.
+
+use crate::integrate::rotation;
+use crate::world::World;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergyReport {
+    /// Σ ½ m v² [J].
+    pub kinetic_translational: f64,
+    /// Σ ½ L·ω [J].
+    pub kinetic_rotational: f64,
+    /// Σ −m g·x [J] (zero at the origin).
+    pub potential: f64,
+    /// Energy stored in the contact springs [J].
+    pub elastic: f64,
+    /// Energy dissipated since the start [J].
+    pub dissipated: f64,
+    /// Body–body plus body–wall contacts.
+    pub contacts: usize,
+}
+
+impl EnergyReport {
+    pub fn of(world: &World) -> Self {
+        let b = &world.bodies;
+        let mut report = Self {
+            dissipated: world.dissipated,
+            contacts: world.contacts.len() + world.plane_contacts.len(),
+            ..Self::default()
+        };
+        for i in 0..b.len() {
+            report.kinetic_translational += 0.5 * b.mass[i] * b.velocity[i].length_squared();
+            report.kinetic_rotational += rotation::rotational_energy(
+                b.orientation[i],
+                b.angular_momentum[i],
+                b.inv_inertia[i],
+            );
+            report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
+        }
+        for c in world
+            .contacts
+            .contacts
+            .iter()
+            .chain(&world.plane_contacts.contacts)
+        {
+            report.elastic += c.response.elastic_energy;
+        }
+        report
+    }
+
+    /// Kinetic + potential + elastic + dissipated: constant up to integration error.
+    pub fn total(&self) -> f64 {
+        self.kinetic_translational
+            + self.kinetic_rotational
+            + self.potential
+            + self.elastic
+            + self.dissipated
+    }
+}

@@ -1,0 +1,160 @@
+//! Scalar time series (energies, forces on walls, …) as CSV.
+//!
+//! The rows are kept in memory and the whole file is rewritten atomically on
+//! every [`CsvSeries::push`]. That is deliberate: output intervals are coarse
+//! (thousands of rows at most), and it guarantees the file on disk always ends
+//! with a complete row, even if the simulation is killed mid-write.
+
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use super::{atomic::write_atomic, format_f64, invalid_input};
+
+/// A CSV file with a fixed header, grown one row at a time.
+#[derive(Debug, Clone)]
+pub struct CsvSeries {
+    path: PathBuf,
+    columns: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl CsvSeries {
+    /// Starts an empty series; nothing is written until the first push, so
+    /// creating a series never fails.
+    pub fn new(path: PathBuf, columns: &[&str]) -> Self {
+        Self {
+            path,
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            rows: Vec::new(),
+        }
+    }
+
+    /// Appends `row` and rewrites the file (header, then all rows).
+    ///
+    /// Returns `InvalidInput` if `row` does not have one value per column; the
+    /// row is then not recorded. If writing fails, the row stays recorded and
+    /// is written by the next successful push.
+    pub fn push(&mut self, row: &[f64]) -> io::Result<()> {
+        if row.len() != self.columns.len() {
+            return Err(invalid_input(format!(
+                "CSV row has {} values but {} has {} columns",
+                row.len(),
+                self.path.display(),
+                self.columns.len()
+            )));
+        }
+        self.rows.push(row.to_vec());
+        write_atomic(&self.path, |w| self.write_to(w))
+    }
+
+    /// Where the file is written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The column names, in order.
+    pub fn columns(&self) -> &[String] {
+        &self.columns
+    }
+
+    /// All rows pushed so far.
+    pub fn rows(&self) -> &[Vec<f64>] {
+        &self.rows
+    }
+
+    fn write_to(&self, w: &mut dyn Write) -> io::Result<()> {
+        let header: Vec<String> = self.columns.iter().map(|c| quote(c)).collect();
+        writeln!(w, "{}", header.join(","))?;
+        for row in &self.rows {
+            let fields: Vec<String> = row.iter().map(|&x| format_f64(x)).collect();
+            writeln!(w, "{}", fields.join(","))?;
+        }
+        Ok(())
+    }
+}
+
+/// RFC 4180 quoting, so a column name containing a comma cannot shift columns.
+fn quote(field: &str) -> String {
+    if field.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", field.replace('"', "\"\""))
+    } else {
+        field.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+        let mut lines = text.lines();
+        let header = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let rows = lines
+            .map(|l| l.split(',').map(|f| f.parse::<f64>().unwrap()).collect())
+            .collect();
+        (header, rows)
+    }
+
+    #[test]
+    fn rows_round_trip_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("energy.csv");
+        let mut series = CsvSeries::new(path.clone(), &["time", "kinetic", "count"]);
+        let rows = [
+            [0.0, 0.0, 3.0],
+            [1e-6, 1.234_567_890_123_456_7e-12, 1000.0],
+            [0.1 + 0.2, -7.25e300, f64::MIN_POSITIVE],
+        ];
+        for (i, row) in rows.iter().enumerate() {
+            series.push(row).unwrap();
+            let (header, parsed) = parse(&std::fs::read_to_string(&path).unwrap());
+            assert_eq!(header, ["time", "kinetic", "count"]);
+            assert_eq!(parsed.len(), i + 1, "file holds all rows so far");
+            for (got, want) in parsed.iter().zip(&rows) {
+                let got_bits: Vec<u64> = got.iter().map(|x| x.to_bits()).collect();
+                let want_bits: Vec<u64> = want.iter().map(|x| x.to_bits()).collect();
+                assert_eq!(got_bits, want_bits);
+            }
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with("time,kinetic,count\n0,0,3\n"), "{text}");
+        assert!(text.ends_with('\n'));
+        assert_eq!(series.rows().len(), 3);
+    }
+
+    #[test]
+    fn wrong_row_length_is_invalid_input_and_not_recorded() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.csv");
+        let mut series = CsvSeries::new(path.clone(), &["a", "b"]);
+        let err = series.push(&[1.0]).unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
+        let err = series.push(&[1.0, 2.0, 3.0]).unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
+        assert!(series.rows().is_empty());
+        assert!(!path.exists());
+        series.push(&[1.0, 2.0]).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n1,2\n");
+    }
+
+    #[test]
+    fn awkward_column_names_are_quoted() {
+        assert_eq!(quote("force,x"), "\"force,x\"");
+        assert_eq!(quote("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(quote("plain"), "plain");
+    }
+
+    #[test]
+    fn write_failure_is_an_error_and_row_is_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing_dir").join("s.csv");
+        let mut series = CsvSeries::new(path, &["a"]);
+        assert!(series.push(&[1.0]).is_err());
+        assert_eq!(series.rows().len(), 1);
+    }
+}

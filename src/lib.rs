@@ -1,0 +1,25 @@
+//! polydem: a Discrete Element Method engine for spheres and polyhedra.
+//!
+//! Data flows one way through a step (see `World::step`): bodies are kicked and drifted by the
+//! integrator, the broad phase finds close pairs, the narrow phase their contact geometry, the
+//! contact laws their forces, and the forces are summed onto the bodies.
+
+pub mod body;
+pub mod broad_phase;
+pub mod contact;
+pub mod contact_law;
+pub mod energy;
+pub mod integrate;
+pub mod io;
+pub mod material;
+pub mod math;
+pub mod narrow_phase;
+pub mod rng;
+pub mod run;
+pub mod scene;
+pub mod shape;
+pub mod timestep;
+pub mod wall;
+pub mod world;
+
+pub use world::{World, WorldConfig};

@@ -1,0 +1,53 @@
+//! Vector, quaternion and matrix types used throughout polydem.
+//!
+//! We use `glam`'s `f64` types directly: they are small, `Copy`, and SIMD-friendly. Pinned to the
+//! same minor version as `parry3d-f64` so that later geometry code can share them.
+
+pub use glam::{DMat3, DQuat, DVec3};
+
+/// Axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    pub fn new(min: DVec3, max: DVec3) -> Self {
+        Self { min, max }
+    }
+
+    pub fn around_sphere(centre: DVec3, radius: f64) -> Self {
+        let r = DVec3::splat(radius);
+        Self::new(centre - r, centre + r)
+    }
+
+    /// Closed-interval overlap test: boxes that only touch count as overlapping, so that
+    /// bodies exactly in contact are never missed by a broad phase.
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        self.min.x <= other.max.x
+            && other.min.x <= self.max.x
+            && self.min.y <= other.max.y
+            && other.min.y <= self.max.y
+            && self.min.z <= other.max.z
+            && other.min.z <= self.max.z
+    }
+
+    pub fn enlarged(&self, margin: f64) -> Self {
+        let m = DVec3::splat(margin);
+        Self::new(self.min - m, self.max + m)
+    }
+
+    pub fn extent(&self) -> DVec3 {
+        self.max - self.min
+    }
+
+    pub fn union(&self, other: &Aabb) -> Self {
+        Self::new(self.min.min(other.min), self.max.max(other.max))
+    }
+}
+
+/// True when every component is finite (no NaN, no infinity).
+pub fn is_finite_vec(v: DVec3) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}

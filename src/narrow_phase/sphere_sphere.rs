@@ -1,0 +1,44 @@
+use super::Geometry;
+use crate::math::DVec3;
+
+/// Two spheres overlap when their centres are closer than the sum of their radii.
+pub fn sphere_sphere(xi: DVec3, ri: f64, xj: DVec3, rj: f64) -> Option<Geometry> {
+    let d = xi - xj;
+    let distance_squared = d.length_squared();
+    let reach = ri + rj;
+    if distance_squared >= reach * reach {
+        return None;
+    }
+    let distance = distance_squared.sqrt();
+    // Coincident centres have no defined normal; any direction is as good, but it must be
+    // deterministic.
+    let normal = if distance > 0.0 {
+        d / distance
+    } else {
+        DVec3::Z
+    };
+    let overlap = reach - distance;
+    Some(Geometry {
+        normal,
+        point: xj + normal * (rj - 0.5 * overlap),
+        overlap,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlapping_spheres() {
+        let g = sphere_sphere(DVec3::new(1.5, 0.0, 0.0), 1.0, DVec3::ZERO, 1.0).unwrap();
+        assert_eq!(g.normal, DVec3::X);
+        assert!((g.overlap - 0.5).abs() < 1e-15);
+        assert!((g.point.x - 0.75).abs() < 1e-15);
+    }
+
+    #[test]
+    fn touching_is_not_overlapping() {
+        assert!(sphere_sphere(DVec3::new(2.0, 0.0, 0.0), 1.0, DVec3::ZERO, 1.0).is_none());
+    }
+}

@@ -1,0 +1,201 @@
+//! The scene file format (TOML). Every key is documented in `docs/scene-format.md`; keep the two in
+//! step. Unknown keys are refused so that a misspelt key never silently falls back to a default.
+
+use serde::Deserialize;
+
+pub type Vec3 = [f64; 3];
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub simulation: Simulation,
+    #[serde(default)]
+    pub contact: ContactSettings,
+    #[serde(default, rename = "material")]
+    pub materials: Vec<MaterialSpec>,
+    #[serde(default, rename = "pair")]
+    pub pairs: Vec<PairSpec>,
+    #[serde(default, rename = "plane")]
+    pub planes: Vec<PlaneSpec>,
+    #[serde(default, rename = "particle")]
+    pub particles: Vec<ParticleSpec>,
+    #[serde(default, rename = "insert")]
+    pub insertions: Vec<InsertSpec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Simulation {
+    /// Seconds, or "auto".
+    #[serde(default)]
+    pub time_step: TimeStep,
+    #[serde(default)]
+    pub force_time_step: bool,
+    pub duration: f64,
+    #[serde(default = "default_gravity")]
+    pub gravity: Vec3,
+    /// Seconds between outputs; default: 100 outputs over the duration.
+    pub output_interval: Option<f64>,
+    #[serde(default)]
+    pub threads: usize,
+    #[serde(default)]
+    pub broad_phase: crate::broad_phase::Method,
+    /// Largest initial overlap accepted, as a fraction of the smaller radius.
+    #[serde(default = "default_overlap_tolerance")]
+    pub initial_overlap_tolerance: f64,
+}
+
+fn default_gravity() -> Vec3 {
+    [0.0, 0.0, -9.81]
+}
+
+fn default_overlap_tolerance() -> f64 {
+    0.01
+}
+
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+pub enum TimeStep {
+    #[default]
+    Auto,
+    Seconds(f64),
+}
+
+impl<'de> Deserialize<'de> for TimeStep {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = TimeStep;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a time step in seconds or \"auto\"")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<TimeStep, E> {
+                match v {
+                    "auto" => Ok(TimeStep::Auto),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<TimeStep, E> {
+                Ok(TimeStep::Seconds(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<TimeStep, E> {
+                Ok(TimeStep::Seconds(v as f64))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalModel {
+    #[default]
+    Hertz,
+    Linear,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSettings {
+    #[serde(default)]
+    pub normal: NormalModel,
+    /// N/m; required by the linear law.
+    pub stiffness: Option<f64>,
+    #[serde(default = "default_tangential_ratio")]
+    pub tangential_stiffness_ratio: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        Self {
+            normal: NormalModel::default(),
+            stiffness: None,
+            tangential_stiffness_ratio: default_tangential_ratio(),
+        }
+    }
+}
+
+fn default_tangential_ratio() -> f64 {
+    2.0 / 7.0
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    pub density: f64,
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    pub restitution: f64,
+    pub friction: f64,
+    #[serde(default)]
+    pub rolling_friction: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    pub materials: [String; 2],
+    pub restitution: Option<f64>,
+    pub friction: Option<f64>,
+    pub rolling_friction: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub material: String,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleSpec {
+    pub radius: f64,
+    pub material: String,
+    pub position: Vec3,
+    #[serde(default)]
+    pub velocity: Vec3,
+    #[serde(default)]
+    pub angular_velocity: Vec3,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum InsertMethod {
+    /// Simple cubic lattice filling the region.
+    Lattice,
+    /// Seeded random sequential addition without overlaps.
+    Random,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InsertSpec {
+    pub method: InsertMethod,
+    pub material: String,
+    pub region_min: Vec3,
+    pub region_max: Vec3,
+    pub count: Option<usize>,
+    pub volume_fraction: Option<f64>,
+    pub radius: Option<f64>,
+    pub radius_distribution: Option<RadiusDistribution>,
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default)]
+    pub velocity: Vec3,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+pub enum RadiusDistribution {
+    /// Radii uniform in [min, max].
+    Uniform { min: f64, max: f64 },
+    /// Normal with the given mean and standard deviation, truncated to [min, max].
+    Normal {
+        mean: f64,
+        std_dev: f64,
+        min: f64,
+        max: f64,
+    },
+}

@@ -1,0 +1,317 @@
+//! Scene files: reading, validating, and building a [`World`] from them.
+//!
+//! Everything a user can get wrong is checked here, before any output is written, and reported
+//! with the file, the line and key, and what is allowed (see [`SceneError`]).
+
+// A scene error is built once, when loading fails; its size costs nothing worth boxing for.
+#![allow(clippy::result_large_err)]
+
+mod error;
+pub mod format;
+pub mod insert;
+mod validate;
+
+pub use error::{KeyPath, SceneError};
+
+use crate::body::BodyInit;
+use crate::contact_law::NormalLaw;
+use crate::material::{Material, PairOverride, PairTable};
+use crate::math::{DQuat, DVec3};
+use crate::shape::{Shape, Sphere};
+use crate::timestep;
+use crate::wall::Plane;
+use crate::world::{World, WorldConfig};
+use format::{NormalModel, SceneFile, TimeStep};
+use insert::Placed;
+use std::path::{Path, PathBuf};
+
+/// A scene file read and checked for form, not yet built.
+#[derive(Debug)]
+pub struct Scene {
+    pub file: PathBuf,
+    pub source: String,
+    pub spec: SceneFile,
+}
+
+/// A world ready to run, with the facts the run needs and the user should be told.
+pub struct Prepared {
+    pub world: World,
+    pub duration: f64,
+    pub output_interval: f64,
+    /// The stable-step estimate, and whether the step was chosen automatically.
+    pub estimate: timestep::Estimate,
+    pub automatic_time_step: bool,
+}
+
+impl Scene {
+    /// Reads and parses a scene file.
+    pub fn load(file: &Path) -> Result<Self, SceneError> {
+        let source = std::fs::read_to_string(file).map_err(|source| SceneError::Read {
+            file: file.to_path_buf(),
+            source,
+        })?;
+        Self::parse(file, source)
+    }
+
+    /// Parses scene text; `file` names it in messages.
+    pub fn parse(file: &Path, source: String) -> Result<Self, SceneError> {
+        let spec: SceneFile =
+            toml::from_str(&source).map_err(|e| SceneError::from_toml(file, &source, &e))?;
+        let scene = Self {
+            file: file.to_path_buf(),
+            source,
+            spec,
+        };
+        validate::check(&scene)?;
+        Ok(scene)
+    }
+
+    pub(crate) fn error(&self, key: KeyPath, message: impl Into<String>) -> SceneError {
+        SceneError::invalid(&self.file, &self.source, key, message)
+    }
+
+    fn material_index(&self, name: &str, key: KeyPath) -> Result<u32, SceneError> {
+        self.spec
+            .materials
+            .iter()
+            .position(|m| m.name == name)
+            .map(|i| i as u32)
+            .ok_or_else(|| {
+                let known: Vec<_> = self
+                    .spec
+                    .materials
+                    .iter()
+                    .map(|m| m.name.as_str())
+                    .collect();
+                self.error(
+                    key,
+                    format!("no material named '{name}'; the scene defines {known:?}"),
+                )
+            })
+    }
+
+    /// Builds the world: materials and their pairs, walls, particles and insertions; checks the
+    /// initial overlaps and the time step.
+    pub fn build(&self) -> Result<Prepared, SceneError> {
+        let spec = &self.spec;
+        let materials: Vec<Material> = spec
+            .materials
+            .iter()
+            .map(|m| Material {
+                name: m.name.clone(),
+                density: m.density,
+                youngs_modulus: m.youngs_modulus,
+                poisson_ratio: m.poisson_ratio,
+                restitution: m.restitution,
+                friction: m.friction,
+                rolling_friction: m.rolling_friction,
+            })
+            .collect();
+        let normal = match spec.contact.normal {
+            NormalModel::Hertz => NormalLaw::Hertz,
+            NormalModel::Linear => NormalLaw::Linear {
+                stiffness: spec.contact.stiffness.ok_or_else(|| {
+                    self.error(
+                        KeyPath::table("contact").key("stiffness"),
+                        "normal = \"linear\" needs `stiffness` [N/m]",
+                    )
+                })?,
+            },
+        };
+        let mut overrides = Vec::new();
+        for (n, p) in spec.pairs.iter().enumerate() {
+            let key = KeyPath::entry("pair", n).key("materials");
+            let a = self.material_index(&p.materials[0], key.clone())?;
+            let b = self.material_index(&p.materials[1], key)?;
+            overrides.push((
+                (a as usize, b as usize),
+                PairOverride {
+                    restitution: p.restitution,
+                    friction: p.friction,
+                    rolling_friction: p.rolling_friction,
+                },
+            ));
+        }
+        let pair_laws = PairTable::new(
+            &materials,
+            normal,
+            spec.contact.tangential_stiffness_ratio,
+            &overrides,
+        );
+
+        let mut planes = Vec::new();
+        for (n, p) in spec.planes.iter().enumerate() {
+            planes.push(Plane {
+                point: DVec3::from(p.point),
+                normal: DVec3::from(p.normal).normalize(),
+                material: self
+                    .material_index(&p.material, KeyPath::entry("plane", n).key("material"))?,
+            });
+        }
+
+        let bodies = self.bodies()?;
+        self.check_initial_overlaps(&bodies, &planes)?;
+
+        let mut world = World::new(WorldConfig {
+            time_step: 0.0,
+            gravity: DVec3::from(spec.simulation.gravity),
+            materials,
+            pair_laws,
+            planes,
+            broad_phase: spec.simulation.broad_phase,
+            threads: spec.simulation.threads,
+        })
+        .map_err(|e| {
+            self.error(
+                KeyPath::table("simulation").key("threads"),
+                format!("cannot start the worker threads: {e}"),
+            )
+        })?;
+        for (init, _) in bodies {
+            world.add_body(init);
+        }
+
+        let time_key = KeyPath::table("simulation").key("time_step");
+        let estimate =
+            timestep::estimate(&world.bodies, &world.materials, normal).ok_or_else(|| {
+                self.error(
+                time_key.clone(),
+                "the scene has no particles: nothing to simulate (add [[particle]] or [[insert]])",
+            )
+            })?;
+        let (time_step, automatic) = match spec.simulation.time_step {
+            TimeStep::Auto => (estimate.seconds, true),
+            TimeStep::Seconds(dt) => {
+                if dt > estimate.seconds && !spec.simulation.force_time_step {
+                    return Err(self.error(
+                        time_key,
+                        format!(
+                            "{dt:e} s is above the stable estimate {:.4e} s ({}); use a smaller \
+                             step, time_step = \"auto\", or set force_time_step = true to run \
+                             anyway",
+                            estimate.seconds, estimate.reason
+                        ),
+                    ));
+                }
+                (dt, false)
+            }
+        };
+        world.time_step = time_step;
+        let duration = spec.simulation.duration;
+        Ok(Prepared {
+            world,
+            duration,
+            output_interval: spec.simulation.output_interval.unwrap_or(duration / 100.0),
+            estimate,
+            automatic_time_step: automatic,
+        })
+    }
+
+    /// Every body the scene places, in file order: single particles, then each insertion. Each
+    /// comes with the key that placed it, for messages.
+    fn bodies(&self) -> Result<Vec<(BodyInit, KeyPath)>, SceneError> {
+        let mut bodies = Vec::new();
+        let mut placed: Vec<Placed> = Vec::new();
+        for (n, p) in self.spec.particles.iter().enumerate() {
+            let key = KeyPath::entry("particle", n);
+            let material = self.material_index(&p.material, key.clone().key("material"))?;
+            bodies.push((
+                sphere(
+                    p.radius,
+                    material,
+                    DVec3::from(p.position),
+                    DVec3::from(p.velocity),
+                )
+                .with_spin(DVec3::from(p.angular_velocity)),
+                key,
+            ));
+            placed.push(Placed {
+                centre: DVec3::from(p.position),
+                radius: p.radius,
+            });
+        }
+        for (n, spec) in self.spec.insertions.iter().enumerate() {
+            let key = KeyPath::entry("insert", n);
+            let material = self.material_index(&spec.material, key.clone().key("material"))?;
+            let new = insert::insert(spec, &placed).map_err(|e| self.error(key.clone(), e.0))?;
+            for p in &new {
+                bodies.push((
+                    sphere(p.radius, material, p.centre, DVec3::from(spec.velocity)),
+                    key.clone(),
+                ));
+            }
+            placed.extend(new);
+        }
+        Ok(bodies)
+    }
+
+    /// Refuses a start in which bodies overlap each other or a wall by more than the tolerance:
+    /// such a start would fire bodies apart with energy the user never put in.
+    fn check_initial_overlaps(
+        &self,
+        bodies: &[(BodyInit, KeyPath)],
+        planes: &[Plane],
+    ) -> Result<(), SceneError> {
+        use crate::broad_phase::{BroadPhase, CellGrid};
+        use crate::math::Aabb;
+        let tolerance = self.spec.simulation.initial_overlap_tolerance;
+        let radius = |b: &BodyInit| b.shape.bounding_radius();
+        let boxes: Vec<Aabb> = bodies
+            .iter()
+            .map(|(b, _)| Aabb::around_sphere(b.position, radius(b)))
+            .collect();
+        let mut pairs = Vec::new();
+        CellGrid::default().find_pairs(&boxes, &mut pairs);
+        for (i, j) in pairs {
+            let ((a, key_a), (b, key_b)) = (&bodies[i as usize], &bodies[j as usize]);
+            let overlap = radius(a) + radius(b) - (a.position - b.position).length();
+            let allowed = tolerance * radius(a).min(radius(b));
+            if overlap > allowed {
+                return Err(self.error(
+                    key_b.clone(),
+                    format!(
+                        "this particle at {:?} overlaps {key_a} at {:?} by {overlap:.3e} m, more \
+                         than initial_overlap_tolerance allows ({allowed:.3e} m); move them apart",
+                        b.position.to_array(),
+                        a.position.to_array()
+                    ),
+                ));
+            }
+        }
+        for (b, key) in bodies {
+            for (n, plane) in planes.iter().enumerate() {
+                let overlap = radius(b) - (b.position - plane.point).dot(plane.normal);
+                if overlap > tolerance * radius(b) {
+                    return Err(self.error(
+                        key.clone(),
+                        format!(
+                            "the particle at {:?} overlaps [[plane]] #{} by {overlap:.3e} m (or \
+                             lies behind it); move it to the side the plane's normal points to",
+                            b.position.to_array(),
+                            n + 1
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn sphere(radius: f64, material: u32, position: DVec3, velocity: DVec3) -> BodyInit {
+    BodyInit {
+        shape: Shape::Sphere(Sphere::new(radius)),
+        material,
+        position,
+        orientation: DQuat::IDENTITY,
+        velocity,
+        angular_velocity: DVec3::ZERO,
+    }
+}
+
+impl BodyInit {
+    fn with_spin(mut self, angular_velocity: DVec3) -> Self {
+        self.angular_velocity = angular_velocity;
+        self
+    }
+}

@@ -1,0 +1,304 @@
+//! The simulated world and its time step.
+
+use crate::body::{Bodies, BodyInit};
+use crate::broad_phase::{self, BroadPhase, Pair};
+use crate::contact::ContactList;
+use crate::contact_law::{self, Kinematics};
+use crate::energy::EnergyReport;
+use crate::integrate;
+use crate::material::{Material, PairTable};
+use crate::math::{Aabb, DVec3};
+use crate::narrow_phase::{self, Geometry};
+use crate::shape::Shape;
+use crate::wall::Plane;
+use rayon::prelude::*;
+
+/// Everything about a world except its bodies.
+pub struct WorldConfig {
+    pub time_step: f64,
+    pub gravity: DVec3,
+    pub materials: Vec<Material>,
+    pub pair_laws: PairTable,
+    pub planes: Vec<Plane>,
+    pub broad_phase: broad_phase::Method,
+    /// Worker threads for the parallel loops (0: one per core).
+    pub threads: usize,
+}
+
+pub struct World {
+    pub time: f64,
+    pub steps_done: u64,
+    pub time_step: f64,
+    pub gravity: DVec3,
+    pub bodies: Bodies,
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub pair_laws: PairTable,
+    pub planes: Vec<Plane>,
+    /// Body–body contacts, `a < b`.
+    pub contacts: ContactList,
+    /// Body–plane contacts, `a` the body, `b` the plane.
+    pub plane_contacts: ContactList,
+    /// Energy taken out by damping, sliding and rolling resistance since the start [J].
+    pub dissipated: f64,
+    broad_phase: Box<dyn BroadPhase>,
+    boxes: Vec<Aabb>,
+    pairs: Vec<Pair>,
+    found: Vec<(u32, u32, Geometry)>,
+    forces_current: bool,
+    pool: std::sync::Arc<rayon::ThreadPool>,
+}
+
+impl World {
+    pub fn new(config: WorldConfig) -> Result<Self, rayon::ThreadPoolBuildError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(config.threads)
+            .build()?;
+        let pool = std::sync::Arc::new(pool);
+        Ok(Self {
+            time: 0.0,
+            steps_done: 0,
+            time_step: config.time_step,
+            gravity: config.gravity,
+            bodies: Bodies::default(),
+            shapes: Vec::new(),
+            materials: config.materials,
+            pair_laws: config.pair_laws,
+            planes: config.planes,
+            contacts: ContactList::default(),
+            plane_contacts: ContactList::default(),
+            dissipated: 0.0,
+            broad_phase: config.broad_phase.build(),
+            boxes: Vec::new(),
+            pairs: Vec::new(),
+            found: Vec::new(),
+            forces_current: false,
+            pool,
+        })
+    }
+
+    /// Adds a body; its id is its insertion number. Returns the body's index.
+    pub fn add_body(&mut self, init: BodyInit) -> usize {
+        let density = self.materials[init.material as usize].density;
+        let unit = init.shape.unit_mass_properties();
+        if self.shapes.last() != Some(&init.shape) {
+            self.shapes.push(init.shape.clone());
+        }
+        let shape_id = (self.shapes.len() - 1) as u32;
+        let id = self.bodies.len() as u64;
+        self.bodies.push(
+            id,
+            shape_id,
+            init.material,
+            init.shape.bounding_radius(),
+            density * unit.volume,
+            density * unit.principal_inertia_per_density,
+            &init,
+        );
+        self.forces_current = false;
+        self.bodies.len() - 1
+    }
+
+    /// Advances the world by one time step.
+    pub fn step(&mut self) {
+        self.run_steps(1);
+    }
+
+    /// Advances the world by `n` time steps. Cheaper than `n` calls of [`World::step`] because the
+    /// thread pool is entered once.
+    pub fn run_steps(&mut self, n: u64) {
+        // The pool is shared (Arc) so that it can run a closure that borrows the world mutably.
+        let pool = std::sync::Arc::clone(&self.pool);
+        pool.install(|| {
+            for _ in 0..n {
+                self.advance();
+            }
+        });
+    }
+
+    /// One time step. The stages, in order: half kick with the current forces, drift, broad
+    /// phase, narrow phase, contact laws, force accumulation, half kick with the new forces.
+    fn advance(&mut self) {
+        if !self.forces_current {
+            self.update_forces(0.0);
+        }
+        let dt = self.time_step;
+        integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
+        integrate::drift(&mut self.bodies, dt);
+        self.update_forces(dt);
+        integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
+        self.time += dt;
+        self.steps_done += 1;
+    }
+
+    /// Runs the contact pipeline at the current positions: who is near whom, who touches whom,
+    /// with what force. `dt` is the interval the contact histories advance by (0 at the start).
+    fn update_forces(&mut self, dt: f64) {
+        self.find_candidate_pairs();
+        self.detect_contacts();
+        self.evaluate_contacts(dt);
+        self.accumulate_forces();
+        self.forces_current = true;
+    }
+
+    fn find_candidate_pairs(&mut self) {
+        let bodies = &self.bodies;
+        self.boxes.clear();
+        self.boxes.extend(
+            bodies
+                .position
+                .iter()
+                .zip(&bodies.bounding_radius)
+                .map(|(&x, &r)| Aabb::around_sphere(x, r)),
+        );
+        self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
+    }
+
+    fn detect_contacts(&mut self) {
+        let bodies = &self.bodies;
+        let (x, r) = (&bodies.position, &bodies.bounding_radius);
+        self.found.clear();
+        self.found
+            .par_extend(self.pairs.par_iter().filter_map(|&(i, j)| {
+                let (a, b) = (i as usize, j as usize);
+                narrow_phase::sphere_sphere(x[a], r[a], x[b], r[b]).map(|g| (i, j, g))
+            }));
+        self.contacts.update(&self.found);
+
+        let planes = &self.planes;
+        self.found.clear();
+        self.found
+            .par_extend((0..bodies.len()).into_par_iter().flat_map_iter(|a| {
+                planes.iter().enumerate().filter_map(move |(p, plane)| {
+                    narrow_phase::sphere_plane(x[a], r[a], plane.point, plane.normal)
+                        .map(|g| (a as u32, p as u32, g))
+                })
+            }));
+        self.plane_contacts.update(&self.found);
+    }
+
+    fn evaluate_contacts(&mut self, dt: f64) {
+        let motion = Motion {
+            bodies: &self.bodies,
+            gravity: self.gravity,
+            half_step: 0.5 * dt,
+        };
+        let bodies = &self.bodies;
+        let laws = &self.pair_laws;
+        self.contacts.contacts.par_iter_mut().for_each(|c| {
+            let (a, b) = (c.a as usize, c.b as usize);
+            let (ra, rb) = (bodies.bounding_radius[a], bodies.bounding_radius[b]);
+            let (ma, mb) = (bodies.mass[a], bodies.mass[b]);
+            let (va, va_end) = motion.at(a, c.geometry.point);
+            let (vb, vb_end) = motion.at(b, c.geometry.point);
+            let k = kinematics(
+                &c.geometry,
+                va - vb,
+                va_end - vb_end,
+                bodies.angular_velocity[a] - bodies.angular_velocity[b],
+                ra * rb / (ra + rb),
+                ma * mb / (ma + mb),
+            );
+            let law = laws.get(bodies.material[a], bodies.material[b]);
+            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+        });
+        let planes = &self.planes;
+        self.plane_contacts.contacts.par_iter_mut().for_each(|c| {
+            let a = c.a as usize;
+            let (va, va_end) = motion.at(a, c.geometry.point);
+            let k = kinematics(
+                &c.geometry,
+                va,
+                va_end,
+                bodies.angular_velocity[a],
+                bodies.bounding_radius[a],
+                bodies.mass[a],
+            );
+            let law = laws.get(bodies.material[a], planes[c.b as usize].material);
+            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+        });
+    }
+
+    /// Sums contact forces onto bodies, in contact order so the sums do not depend on threads.
+    fn accumulate_forces(&mut self) {
+        let b = &mut self.bodies;
+        b.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
+        b.torque.iter_mut().for_each(|t| *t = DVec3::ZERO);
+        for c in &self.contacts.contacts {
+            let (i, j) = (c.a as usize, c.b as usize);
+            let f = c.response.force;
+            let p = c.geometry.point;
+            b.force[i] += f;
+            b.force[j] -= f;
+            b.torque[i] += (p - b.position[i]).cross(f) + c.response.torque;
+            b.torque[j] -= (p - b.position[j]).cross(f) + c.response.torque;
+            self.dissipated += c.response.dissipated;
+        }
+        for c in &self.plane_contacts.contacts {
+            let i = c.a as usize;
+            let f = c.response.force;
+            b.force[i] += f;
+            b.torque[i] += (c.geometry.point - b.position[i]).cross(f) + c.response.torque;
+            self.dissipated += c.response.dissipated;
+        }
+    }
+
+    /// The energy ledger at the current state.
+    pub fn energy(&self) -> EnergyReport {
+        EnergyReport::of(self)
+    }
+
+    /// Number of threads the world's parallel loops use.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+}
+
+/// Velocities of body points at the moment contact forces are evaluated.
+struct Motion<'a> {
+    bodies: &'a Bodies,
+    gravity: DVec3,
+    half_step: f64,
+}
+
+impl Motion<'_> {
+    /// Velocity of the body point at `point` over the step just taken (the half-step velocity),
+    /// and predicted at the end of the step by the first half-kick's forces, which are still in
+    /// the force arrays (v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2).
+    fn at(&self, body: usize, point: DVec3) -> (DVec3, DVec3) {
+        let b = self.bodies;
+        let h = self.half_step;
+        let arm = point - b.position[body];
+        let now = b.velocity[body] + b.angular_velocity[body].cross(arm);
+        let velocity_end = b.velocity[body] + (b.force[body] * b.inv_mass[body] + self.gravity) * h;
+        let omega_end = integrate::rotation::angular_velocity(
+            b.orientation[body],
+            b.angular_momentum[body] + b.torque[body] * h,
+            b.inv_inertia[body],
+        );
+        (now, velocity_end + omega_end.cross(arm))
+    }
+}
+
+/// Relative motion at a contact, from the relative velocities of the contact points.
+fn kinematics(
+    g: &Geometry,
+    relative_velocity: DVec3,
+    relative_velocity_end: DVec3,
+    relative_angular_velocity: DVec3,
+    effective_radius: f64,
+    effective_mass: f64,
+) -> Kinematics {
+    let normal_speed = relative_velocity.dot(g.normal);
+    let normal_speed_end = relative_velocity_end.dot(g.normal);
+    Kinematics {
+        normal: g.normal,
+        overlap: g.overlap,
+        overlap_rate: -normal_speed_end,
+        tangential_velocity: relative_velocity - g.normal * normal_speed,
+        tangential_velocity_end: relative_velocity_end - g.normal * normal_speed_end,
+        relative_angular_velocity,
+        effective_radius,
+        effective_mass,
+    }
+}
