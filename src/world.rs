@@ -21,6 +21,10 @@ pub struct WorldConfig {
     pub pair_laws: PairTable,
     pub planes: Vec<Plane>,
     pub broad_phase: broad_phase::Method,
+    /// Extra distance [m] by which the broad phase's boxes are enlarged so that its pair list
+    /// can be reused over several steps; `None` picks a default from the body sizes
+    /// ([`World::default_skin`]).
+    pub skin: Option<f64>,
     /// Worker threads for the parallel loops (0: one per core).
     pub threads: usize,
 }
@@ -41,7 +45,14 @@ pub struct World {
     pub plane_contacts: ContactList,
     /// Energy taken out by damping, sliding and rolling resistance since the start [J].
     pub dissipated: f64,
+    /// See [`WorldConfig::skin`]; `None` until bodies exist to size it from.
+    skin_setting: Option<f64>,
+    skin: f64,
+    /// Times the broad phase has rebuilt the candidate pairs (for diagnostics and tests).
+    pub pair_rebuilds: u64,
     broad_phase: Box<dyn BroadPhase>,
+    reference_position: Vec<DVec3>,
+    pairs_valid: bool,
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     found: Vec<(u32, u32, Geometry)>,
@@ -68,7 +79,12 @@ impl World {
             contacts: ContactList::default(),
             plane_contacts: ContactList::default(),
             dissipated: 0.0,
+            skin_setting: config.skin,
+            skin: 0.0,
+            pair_rebuilds: 0,
             broad_phase: config.broad_phase.build(),
+            reference_position: Vec::new(),
+            pairs_valid: false,
             boxes: Vec::new(),
             pairs: Vec::new(),
             found: Vec::new(),
@@ -96,7 +112,26 @@ impl World {
             &init,
         );
         self.forces_current = false;
+        self.pairs_valid = false;
+        self.skin = self
+            .skin_setting
+            .unwrap_or_else(|| Self::default_skin(&self.bodies));
         self.bodies.len() - 1
+    }
+
+    /// A fifth of the smallest bounding radius: small enough that the extra candidate pairs cost
+    /// little, large enough that the list lasts many steps at the speeds DEM time steps allow.
+    pub fn default_skin(bodies: &Bodies) -> f64 {
+        0.2 * bodies
+            .bounding_radius
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The skin distance in use [m].
+    pub fn skin(&self) -> f64 {
+        self.skin
     }
 
     /// Advances the world by one time step.
@@ -141,17 +176,35 @@ impl World {
         self.forces_current = true;
     }
 
+    /// Candidate pairs from boxes enlarged by half the skin on each side. The list stays valid
+    /// until some body has moved more than half the skin since it was made: until then no two
+    /// bodies outside each other's enlarged boxes can touch (Verlet 1967's neighbour list idea).
     fn find_candidate_pairs(&mut self) {
         let bodies = &self.bodies;
+        let half_skin = 0.5 * self.skin;
+        if self.pairs_valid {
+            let limit = half_skin * half_skin;
+            let moved_too_far = bodies
+                .position
+                .par_iter()
+                .zip(self.reference_position.par_iter())
+                .any(|(x, x0)| (*x - *x0).length_squared() > limit);
+            if !moved_too_far {
+                return;
+            }
+        }
         self.boxes.clear();
         self.boxes.extend(
             bodies
                 .position
                 .iter()
                 .zip(&bodies.bounding_radius)
-                .map(|(&x, &r)| Aabb::around_sphere(x, r)),
+                .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
+        self.reference_position.clone_from(&bodies.position);
+        self.pairs_valid = true;
+        self.pair_rebuilds += 1;
     }
 
     fn detect_contacts(&mut self) {
@@ -167,13 +220,17 @@ impl World {
 
         let planes = &self.planes;
         self.found.clear();
-        self.found
-            .par_extend((0..bodies.len()).into_par_iter().flat_map_iter(|a| {
-                planes.iter().enumerate().filter_map(move |(p, plane)| {
-                    narrow_phase::sphere_plane(x[a], r[a], plane.point, plane.normal)
-                        .map(|g| (a as u32, p as u32, g))
-                })
-            }));
+        self.found.par_extend(
+            (0..bodies.len())
+                .into_par_iter()
+                .with_min_len(512)
+                .flat_map_iter(|a| {
+                    planes.iter().enumerate().filter_map(move |(p, plane)| {
+                        narrow_phase::sphere_plane(x[a], r[a], plane.point, plane.normal)
+                            .map(|g| (a as u32, p as u32, g))
+                    })
+                }),
+        );
         self.plane_contacts.update(&self.found);
     }
 
@@ -185,38 +242,46 @@ impl World {
         };
         let bodies = &self.bodies;
         let laws = &self.pair_laws;
-        self.contacts.contacts.par_iter_mut().for_each(|c| {
-            let (a, b) = (c.a as usize, c.b as usize);
-            let (ra, rb) = (bodies.bounding_radius[a], bodies.bounding_radius[b]);
-            let (ma, mb) = (bodies.mass[a], bodies.mass[b]);
-            let (va, va_end) = motion.at(a, c.geometry.point);
-            let (vb, vb_end) = motion.at(b, c.geometry.point);
-            let k = kinematics(
-                &c.geometry,
-                va - vb,
-                va_end - vb_end,
-                bodies.angular_velocity[a] - bodies.angular_velocity[b],
-                ra * rb / (ra + rb),
-                ma * mb / (ma + mb),
-            );
-            let law = laws.get(bodies.material[a], bodies.material[b]);
-            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
-        });
+        self.contacts
+            .contacts
+            .par_iter_mut()
+            .with_min_len(256)
+            .for_each(|c| {
+                let (a, b) = (c.a as usize, c.b as usize);
+                let (ra, rb) = (bodies.bounding_radius[a], bodies.bounding_radius[b]);
+                let (ma, mb) = (bodies.mass[a], bodies.mass[b]);
+                let (va, va_end) = motion.at(a, c.geometry.point);
+                let (vb, vb_end) = motion.at(b, c.geometry.point);
+                let k = kinematics(
+                    &c.geometry,
+                    va - vb,
+                    va_end - vb_end,
+                    bodies.angular_velocity[a] - bodies.angular_velocity[b],
+                    ra * rb / (ra + rb),
+                    ma * mb / (ma + mb),
+                );
+                let law = laws.get(bodies.material[a], bodies.material[b]);
+                c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+            });
         let planes = &self.planes;
-        self.plane_contacts.contacts.par_iter_mut().for_each(|c| {
-            let a = c.a as usize;
-            let (va, va_end) = motion.at(a, c.geometry.point);
-            let k = kinematics(
-                &c.geometry,
-                va,
-                va_end,
-                bodies.angular_velocity[a],
-                bodies.bounding_radius[a],
-                bodies.mass[a],
-            );
-            let law = laws.get(bodies.material[a], planes[c.b as usize].material);
-            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
-        });
+        self.plane_contacts
+            .contacts
+            .par_iter_mut()
+            .with_min_len(256)
+            .for_each(|c| {
+                let a = c.a as usize;
+                let (va, va_end) = motion.at(a, c.geometry.point);
+                let k = kinematics(
+                    &c.geometry,
+                    va,
+                    va_end,
+                    bodies.angular_velocity[a],
+                    bodies.bounding_radius[a],
+                    bodies.mass[a],
+                );
+                let law = laws.get(bodies.material[a], planes[c.b as usize].material);
+                c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+            });
     }
 
     /// Sums contact forces onto bodies, in contact order so the sums do not depend on threads.

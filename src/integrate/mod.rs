@@ -12,6 +12,10 @@ use crate::body::Bodies;
 use crate::math::DVec3;
 use rayon::prelude::*;
 
+/// Bodies per parallel work item: per-body work is a few dozen flops, so smaller items would
+/// cost more in scheduling than they save.
+const MIN_BODIES_PER_TASK: usize = 1024;
+
 /// v += (F/m + g) h and L += τ h, then refreshes ω from L. Used with h = dt/2.
 pub fn kick(bodies: &mut Bodies, gravity: DVec3, h: f64) {
     let Bodies {
@@ -29,6 +33,7 @@ pub fn kick(bodies: &mut Bodies, gravity: DVec3, h: f64) {
         .par_iter_mut()
         .zip(force.par_iter())
         .zip(inv_mass.par_iter())
+        .with_min_len(MIN_BODIES_PER_TASK)
         .for_each(|((v, f), inv_m)| *v += (*f * *inv_m + gravity) * h);
     angular_momentum
         .par_iter_mut()
@@ -36,6 +41,7 @@ pub fn kick(bodies: &mut Bodies, gravity: DVec3, h: f64) {
         .zip(torque.par_iter())
         .zip(orientation.par_iter())
         .zip(inv_inertia.par_iter())
+        .with_min_len(MIN_BODIES_PER_TASK)
         .for_each(|((((l, w), t), q), inv_i)| {
             *l += *t * h;
             *w = rotation::angular_velocity(*q, *l, *inv_i);
@@ -56,12 +62,14 @@ pub fn drift(bodies: &mut Bodies, dt: f64) {
     position
         .par_iter_mut()
         .zip(velocity.par_iter())
+        .with_min_len(MIN_BODIES_PER_TASK)
         .for_each(|(x, v)| *x += *v * dt);
     orientation
         .par_iter_mut()
         .zip(angular_momentum.par_iter())
         .zip(inv_inertia.par_iter())
         .zip(angular_velocity.par_iter_mut())
+        .with_min_len(MIN_BODIES_PER_TASK)
         .for_each(|(((q, l), inv_i), w)| {
             *q = rotation::drift(*q, *l, *inv_i, dt);
             // The body frame turned, so the world-frame ω of a non-spherical body changed.

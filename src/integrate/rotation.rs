@@ -190,6 +190,10 @@ fn drift_split(q: DQuat, l_world: DVec3, inv_inertia: DVec3, dt: f64, steps: &[S
 /// frame).
 #[inline]
 pub fn angular_velocity(q: DQuat, l_world: DVec3, inv_inertia: DVec3) -> DVec3 {
+    // Spheres (the common case) need no change of frame.
+    if is_isotropic(inv_inertia) {
+        return l_world * inv_inertia.x;
+    }
     q * (inv_inertia * (q.inverse() * l_world))
 }
 

@@ -40,6 +40,9 @@ pub struct Simulation {
     pub threads: usize,
     #[serde(default)]
     pub broad_phase: crate::broad_phase::Method,
+    /// Metres by which broad-phase boxes are enlarged so the pair list lasts several steps;
+    /// default: a fifth of the smallest particle radius.
+    pub skin: Option<f64>,
     /// Largest initial overlap accepted, as a fraction of the smaller radius.
     #[serde(default = "default_overlap_tolerance")]
     pub initial_overlap_tolerance: f64,

@@ -159,6 +159,7 @@ impl Scene {
             pair_laws,
             planes,
             broad_phase: spec.simulation.broad_phase,
+            skin: spec.simulation.skin,
             threads: spec.simulation.threads,
         })
         .map_err(|e| {

@@ -15,6 +15,9 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
         c.positive(sim.clone().key("output_interval"), interval, "s")?;
     }
     c.vector(sim.clone().key("gravity"), s.simulation.gravity)?;
+    if let Some(skin) = s.simulation.skin {
+        c.non_negative(sim.clone().key("skin"), skin, "m")?;
+    }
     c.non_negative(
         sim.key("initial_overlap_tolerance"),
         s.simulation.initial_overlap_tolerance,
@@ -54,6 +57,21 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     }
     for (n, p) in s.pairs.iter().enumerate() {
         let key = |k: &str| KeyPath::entry("pair", n).key(k);
+        let same = |other: &super::format::PairSpec| {
+            let [a, b] = &other.materials;
+            (a, b) == (&p.materials[0], &p.materials[1])
+                || (b, a) == (&p.materials[0], &p.materials[1])
+        };
+        if let Some(first) = s.pairs[..n].iter().position(same) {
+            return Err(scene.error(
+                key("materials"),
+                format!(
+                    "the pair {:?} is already set by [[pair]] #{}: merge the two entries",
+                    p.materials,
+                    first + 1
+                ),
+            ));
+        }
         if let Some(e) = p.restitution {
             c.restitution(key("restitution"), e)?;
         }
@@ -68,8 +86,17 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
         let key = |k: &str| KeyPath::entry("plane", n).key(k);
         c.vector(key("point"), p.point)?;
         c.vector(key("normal"), p.normal)?;
-        if p.normal.iter().all(|&v| v == 0.0) {
-            return Err(scene.error(key("normal"), "the normal must not be the zero vector"));
+        // Also refuses normals too short or too long to normalise in floating point
+        // (e.g. [1e-320, 0, 0], whose squared length underflows to zero).
+        if crate::math::DVec3::from(p.normal).try_normalize().is_none() {
+            return Err(scene.error(
+                key("normal"),
+                format!(
+                    "{:?} cannot be used as a normal: give a non-zero vector of moderate length \
+                     (it is normalised), e.g. [0.0, 0.0, 1.0]",
+                    p.normal
+                ),
+            ));
         }
     }
     for (n, p) in s.particles.iter().enumerate() {
@@ -107,40 +134,142 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
         (None, Some(f)) => c.open_range(key("volume_fraction"), f, 0.0, 0.74)?,
         _ => {}
     }
-    match (i.radius, i.radius_distribution) {
-        (Some(r), None) => c.positive(key("radius"), r, "m")?,
-        (None, Some(d)) => {
-            let key = key("radius_distribution");
-            let (min, max) = match d {
-                RadiusDistribution::Uniform { min, max } => (min, max),
-                RadiusDistribution::Normal {
-                    mean,
-                    std_dev,
-                    min,
-                    max,
-                } => {
-                    c.positive(key.clone(), mean, "m (mean)")?;
-                    c.positive(key.clone(), std_dev, "m (std_dev)")?;
-                    if !(min..=max).contains(&mean) {
-                        return Err(c.scene.error(key, "mean must lie between min and max"));
-                    }
-                    (min, max)
-                }
-            };
-            c.positive(key.clone(), min, "m (min)")?;
-            c.positive(key.clone(), max, "m (max)")?;
-            if max < min {
-                return Err(c.scene.error(key, "max must not be below min"));
-            }
+    let (r_min, r_max) = match (i.radius, i.radius_distribution) {
+        (Some(r), None) => {
+            c.positive(key("radius"), r, "m")?;
+            (r, r)
         }
+        (None, Some(d)) => check_distribution(c, n, d)?,
         _ => {
             return Err(c.scene.error(
                 key("radius"),
                 "give exactly one of `radius` and `radius_distribution`",
             ))
         }
+    };
+    check_insertion_size(c, n, i, r_min, r_max)
+}
+
+/// Checks a radius distribution; returns the smallest and largest radius it can draw.
+fn check_distribution(
+    c: &Checker,
+    n: usize,
+    d: RadiusDistribution,
+) -> Result<(f64, f64), SceneError> {
+    let key = |k: &str| KeyPath::entry("insert", n).key(&format!("radius_distribution.{k}"));
+    let (min, max) = match d {
+        RadiusDistribution::Uniform { min, max } | RadiusDistribution::Normal { min, max, .. } => {
+            (min, max)
+        }
+    };
+    c.positive(key("min"), min, "m")?;
+    c.positive(key("max"), max, "m")?;
+    if max < min {
+        return Err(c.scene.error(
+            key("max"),
+            format!("{max} is below min = {min}: max must be ≥ min"),
+        ));
+    }
+    if let RadiusDistribution::Normal { mean, std_dev, .. } = d {
+        c.positive(key("mean"), mean, "m")?;
+        c.positive(key("std_dev"), std_dev, "m")?;
+        if !(min..=max).contains(&mean) {
+            return Err(c.scene.error(
+                key("mean"),
+                format!("{mean} is not allowed: must lie in [min, max] = [{min}, {max}]"),
+            ));
+        }
+        // Radii are drawn by rejection: a window holding almost none of the distribution would
+        // make drawing them take forever.
+        let inside = normal_cdf((max - mean) / std_dev) - normal_cdf((min - mean) / std_dev);
+        if inside < MIN_NORMAL_ACCEPTANCE {
+            return Err(c.scene.error(
+                key("std_dev"),
+                format!(
+                    "only {:.2e} % of a normal distribution with std_dev = {std_dev} lies in \
+                     [min, max] = [{min}, {max}] (at least {} % is needed): widen [min, max], \
+                     lower std_dev, or give a fixed `radius`",
+                    100.0 * inside,
+                    100.0 * MIN_NORMAL_ACCEPTANCE
+                ),
+            ));
+        }
+    }
+    Ok((min, max))
+}
+
+/// Smallest share of a normal radius distribution that [min, max] must hold.
+const MIN_NORMAL_ACCEPTANCE: f64 = 1e-3;
+
+/// Most spheres one insertion may ask for (directly, or through `volume_fraction`).
+const MAX_INSERTED: f64 = 1e8;
+
+/// Densest packing of equal spheres (Kepler): no request for more sphere volume can be met.
+const DENSEST_PACKING: f64 = 0.74;
+
+/// Refuses, before any sphere is drawn, requests that cannot fit in the region or would exhaust
+/// memory.
+fn check_insertion_size(
+    c: &Checker,
+    n: usize,
+    i: &InsertSpec,
+    r_min: f64,
+    r_max: f64,
+) -> Result<(), SceneError> {
+    let key = |k: &str| KeyPath::entry("insert", n).key(k);
+    let extent: Vec<f64> = (0..3).map(|a| i.region_max[a] - i.region_min[a]).collect();
+    if extent.iter().any(|&e| e < 2.0 * r_max) {
+        return Err(c.scene.error(
+            key("region_max"),
+            format!(
+                "the region {extent:?} m is narrower than one sphere of radius {r_max} m on some \
+                 axis: enlarge the region or use smaller spheres"
+            ),
+        ));
+    }
+    let region = extent.iter().product::<f64>();
+    let smallest = 4.0 / 3.0 * std::f64::consts::PI * r_min.powi(3);
+    let (count_key, most) = match (i.count, i.volume_fraction) {
+        (Some(count), _) => {
+            let needed = count as f64 * smallest;
+            if needed > DENSEST_PACKING * region {
+                return Err(c.scene.error(
+                    key("count"),
+                    format!(
+                        "{count} spheres of radius ≥ {r_min} m take at least {needed:.3e} m³, more \
+                         than fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
+                         enlarge the region or ask for fewer spheres"
+                    ),
+                ));
+            }
+            ("count", count as f64)
+        }
+        (None, Some(f)) => ("volume_fraction", (f * region / smallest).ceil()),
+        (None, None) => unreachable!("checked above: count or volume_fraction is given"),
+    };
+    if most > MAX_INSERTED {
+        return Err(c.scene.error(
+            key(count_key),
+            format!(
+                "this would insert up to {most:.3e} spheres, more than the {MAX_INSERTED:.0e} one \
+                 insertion may place: use larger spheres or a smaller region"
+            ),
+        ));
     }
     Ok(())
+}
+
+/// Standard normal cumulative distribution, Φ(x) = (1 + erf(x/√2))/2, with erf after Abramowitz
+/// & Stegun 7.1.26 (absolute error below 1.5e-7, ample for a feasibility check).
+fn normal_cdf(x: f64) -> f64 {
+    let z = x.abs() / std::f64::consts::SQRT_2;
+    let t = 1.0 / (1.0 + 0.327_591_1 * z);
+    let poly = t
+        * (0.254_829_592
+            + t * (-0.284_496_736
+                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+    let erf = 1.0 - poly * (-z * z).exp();
+    0.5 * (1.0 + erf.copysign(x))
 }
 
 struct Checker<'a> {
@@ -205,5 +334,128 @@ impl Checker<'_> {
             self.finite(key.clone(), x)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    const BASE: &str = "[simulation]\nduration = 0.01\n\n[[material]]\nname = \"glass\"\n\
+        density = 2500.0\nyoungs_modulus = 5e9\npoisson_ratio = 0.25\nrestitution = 0.8\n\
+        friction = 0.3\n";
+
+    /// The message of the error `extra` (appended to a valid scene) causes, or "ok".
+    fn message(extra: &str) -> String {
+        match Scene::parse(Path::new("s.toml"), format!("{BASE}{extra}")) {
+            Ok(_) => "ok".into(),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    fn insert(size: &str) -> String {
+        message(&format!(
+            "\n[[insert]]\nmethod = \"random\"\nmaterial = \"glass\"\n\
+             region_min = [0.0, 0.0, 0.0]\nregion_max = [0.1, 0.1, 0.1]\n{size}\n"
+        ))
+    }
+
+    #[test]
+    fn the_base_scene_and_a_modest_insertion_are_valid() {
+        assert_eq!(message(""), "ok");
+        assert_eq!(insert("count = 10\nradius = 0.005"), "ok");
+    }
+
+    #[test]
+    fn plane_normals_that_cannot_be_normalised_are_refused() {
+        for normal in [
+            "[0.0, 0.0, 0.0]",
+            "[1e-320, 0.0, 0.0]",
+            "[1e200, 1e200, 0.0]",
+        ] {
+            let m = message(&format!(
+                "\n[[plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = {normal}\nmaterial = \"glass\"\n"
+            ));
+            assert!(
+                m.starts_with("s.toml:14: [[plane]] #1 normal:") && m.contains("non-zero"),
+                "{m}"
+            );
+        }
+        let m = message("\n[[plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [nan, 0.0, 1.0]\nmaterial = \"glass\"\n");
+        assert!(m.contains("normal: NaN is not a finite number"), "{m}");
+    }
+
+    #[test]
+    fn a_pair_set_twice_is_refused_in_either_order() {
+        let pair = |a: &str, b: &str| {
+            format!("\n[[pair]]\nmaterials = [\"{a}\", \"{b}\"]\nfriction = 0.1\n")
+        };
+        assert_eq!(message(&pair("glass", "glass")), "ok");
+        let m = message(&(pair("glass", "steel") + &pair("steel", "glass")));
+        assert!(
+            m.contains("[[pair]] #2 materials") && m.contains("[[pair]] #1"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn radius_distributions_are_checked_field_by_field() {
+        let dist = |d: &str| insert(&format!("count = 10\nradius_distribution = {{ {d} }}"));
+        let m = dist("kind = \"uniform\", min = 0.006, max = 0.004");
+        assert!(
+            m.contains("radius_distribution.max: 0.004 is below min"),
+            "{m}"
+        );
+        let m = dist("kind = \"normal\", mean = 0.005, std_dev = nan, min = 0.004, max = 0.006");
+        assert!(m.contains("radius_distribution.std_dev: NaN"), "{m}");
+        let m = dist("kind = \"normal\", mean = 0.007, std_dev = 0.001, min = 0.004, max = 0.006");
+        assert!(
+            m.contains("radius_distribution.mean: 0.007 is not allowed"),
+            "{m}"
+        );
+        // A window holding (almost) nothing of the distribution would hang the rejection sampler.
+        for (lo, hi) in [(0.005, 0.005), (0.005, 0.005000001)] {
+            let m = dist(&format!(
+                "kind = \"normal\", mean = 0.005, std_dev = 0.001, min = {lo}, max = {hi}"
+            ));
+            assert!(m.contains("radius_distribution.std_dev: only"), "{m}");
+        }
+        let ok = "kind = \"normal\", mean = 0.005, std_dev = 0.001, min = 0.005, max = 0.0051";
+        assert_eq!(dist(ok), "ok");
+    }
+
+    #[test]
+    fn impossible_or_gigantic_insertions_are_refused_before_drawing() {
+        let m = insert("count = 1000000000000\nradius = 0.005");
+        assert!(m.contains("count:") && m.contains("ask for fewer"), "{m}");
+        let m = insert("count = 1000000000000\nradius = 1e-9");
+        assert!(
+            m.contains("count:") && m.contains("more than the 1e8"),
+            "{m}"
+        );
+        let m = insert("volume_fraction = 0.5\nradius = 1e-6");
+        assert!(
+            m.contains("volume_fraction:") && m.contains("more than the 1e8"),
+            "{m}"
+        );
+        let m = insert("count = 1\nradius = 0.06");
+        assert!(m.contains("region_max:") && m.contains("narrower"), "{m}");
+    }
+
+    #[test]
+    fn normal_cdf_matches_known_values() {
+        for (x, p) in [
+            (0.0, 0.5),
+            (1.0, 0.841_344_7),
+            (-1.96, 0.024_997_9),
+            (3.0, 0.998_650_1),
+        ] {
+            assert!(
+                (normal_cdf(x) - p).abs() < 2e-7,
+                "Φ({x}) = {}",
+                normal_cdf(x)
+            );
+        }
     }
 }
