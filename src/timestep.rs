@@ -15,8 +15,9 @@ pub struct Estimate {
 
 /// The estimate for a set of bodies under a normal law, or `None` without bodies.
 ///
-/// Hertz: 20 % of the Rayleigh time T_R = π r √(ρ/G) / (0.1631 ν + 0.8766) of the smallest, softest
-/// body (Li, Xu & Thornton 2005, Powder Technol. 160, 219; 20–40 % is common practice).
+/// Hertz: 20 % of the shortest Rayleigh time T_R = π r √(ρ/G) / (0.1631 ν + 0.8766) over the
+/// bodies, set by small, stiff, light ones (Li, Xu & Thornton 2005, Powder Technol. 160, 219;
+/// 20–40 % is common practice).
 /// Linear spring: 1/20 of the contact duration π √(m*/k) of the two lightest bodies, m* = m/2
 /// (Cundall & Strack 1979 take a fraction of √(m/k)); a sphere on a wall has m* = m, so its contact
 /// lasts longer and is covered by the same bound.

@@ -26,6 +26,9 @@ enum Command {
         /// Output folder [default: output/<scene name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Worker threads, overriding the scene's `threads` (0: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Check a scene file and report what a run would do, without running it.
     Check {
@@ -37,7 +40,11 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scene, out } => run(&scene, out),
+        Command::Run {
+            scene,
+            out,
+            threads,
+        } => run(&scene, out, threads),
         Command::Check { scene } => check(&scene),
     };
     match result {
@@ -49,8 +56,11 @@ fn main() -> ExitCode {
     }
 }
 
-fn prepare(scene: &Path) -> Result<Prepared, String> {
-    let scene = Scene::load(scene).map_err(|e| e.to_string())?;
+fn prepare(scene: &Path, threads: Option<usize>) -> Result<Prepared, String> {
+    let mut scene = Scene::load(scene).map_err(|e| e.to_string())?;
+    if let Some(threads) = threads {
+        scene.spec.simulation.threads = threads;
+    }
     scene.build().map_err(|e| e.to_string())
 }
 
@@ -79,16 +89,16 @@ fn describe(scene: &Path, p: &Prepared) {
 }
 
 fn check(scene: &Path) -> Result<(), String> {
-    let prepared = prepare(scene)?;
+    let prepared = prepare(scene, None)?;
     describe(scene, &prepared);
     println!("scene is valid");
     Ok(())
 }
 
-fn run(scene: &Path, out: Option<PathBuf>) -> Result<(), String> {
+fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(), String> {
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
-    let mut prepared = prepare(scene)?;
+    let mut prepared = prepare(scene, threads)?;
     let out = out.unwrap_or_else(|| {
         let stem = scene.file_stem().unwrap_or_default();
         Path::new("output").join(stem)

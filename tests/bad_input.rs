@@ -1,0 +1,501 @@
+//! Bad scene files get a clear error from the real `polydem` binary, never a panic: the message
+//! names the file (and line and key where there is one) and says what is allowed, the exit code is
+//! non-zero, and `run --out DIR` leaves no DIR behind. Valid scenes check and run cleanly.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// File name every scene is written under (each in its own temporary folder).
+const SCENE: &str = "scene.toml";
+
+/// A valid scene: a glass bead resting above a plate. Cases edit one line of it.
+const BASE: &str = r#"[simulation]
+duration = 0.002
+output_interval = 0.0005
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e9
+poisson_ratio = 0.25
+restitution = 0.8
+friction = 0.3
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "glass"
+
+[[particle]]
+radius = 0.005
+material = "glass"
+position = [0.0, 0.0, 0.006]
+"#;
+
+/// A second bead beside the first, touching nothing.
+const SECOND_PARTICLE: &str = r#"
+[[particle]]
+radius = 0.005
+material = "glass"
+position = [0.02, 0.0, 0.006]
+velocity = [-0.5, 0.0, 0.0]
+"#;
+
+fn polydem(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_polydem"))
+        .args(args)
+        .output()
+        .expect("the polydem binary starts")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `BASE` with the one line `from` replaced by `to`.
+fn edit(from: &str, to: &str) -> String {
+    assert_eq!(BASE.matches(from).count(), 1, "'{from}' must occur once");
+    BASE.replacen(from, to, 1)
+}
+
+/// `BASE` with `extra` appended.
+fn plus(extra: &str) -> String {
+    format!("{BASE}{extra}")
+}
+
+/// What an error message must show as its location: the file and the 1-based line holding
+/// `marker` (the first such line).
+fn at(scene: &str, marker: &str) -> String {
+    let line = scene
+        .lines()
+        .position(|l| l.contains(marker))
+        .unwrap_or_else(|| panic!("'{marker}' is not in the scene"))
+        + 1;
+    format!("{SCENE}:{line}:")
+}
+
+/// Asserts a failed command: non-zero exit, an `error:` line naming `file`, every one of
+/// `expected` in stderr, and no panic. Returns stderr.
+fn assert_refused(output: &Output, file: &Path, expected: &[&str]) -> String {
+    let stderr = text(&output.stderr);
+    assert!(
+        !output.status.success(),
+        "expected failure, got success; stdout:\n{}",
+        text(&output.stdout)
+    );
+    assert!(!stderr.contains("panicked"), "panic:\n{stderr}");
+    assert!(stderr.starts_with("error: "), "stderr:\n{stderr}");
+    assert!(
+        stderr.contains(&file.display().to_string()),
+        "stderr does not name {}:\n{stderr}",
+        file.display()
+    );
+    for e in expected {
+        assert!(stderr.contains(e), "stderr lacks '{e}':\n{stderr}");
+    }
+    stderr
+}
+
+/// Writes `scene` (or nothing, for `None`) to a fresh folder; `check` and `run --out DIR` must
+/// both refuse it with every string of `expected` in the message, and leave no DIR behind.
+/// Returns the message of `check`.
+fn refused(scene: Option<&str>, expected: &[&str]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join(SCENE);
+    if let Some(scene) = scene {
+        std::fs::write(&file, scene).unwrap();
+    }
+    let message = assert_refused(
+        &polydem(&["check".as_ref(), file.as_os_str()]),
+        &file,
+        expected,
+    );
+    let out = dir.path().join("out");
+    let run = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(assert_refused(&run, &file, expected), message);
+    assert!(!out.exists(), "a refused run created {}", out.display());
+    message
+}
+
+/// Writes `scene` to `dir` and runs `polydem check` on it, which must succeed; returns stdout.
+fn checked(dir: &Path, scene: &str) -> String {
+    let file = dir.join(SCENE);
+    std::fs::write(&file, scene).unwrap();
+    accepted(&polydem(&["check".as_ref(), file.as_os_str()]))
+}
+
+/// Asserts a successful command; returns its stdout.
+fn accepted(output: &Output) -> String {
+    let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
+    assert!(
+        output.status.success() && !stderr.contains("panicked"),
+        "failed:\n{stdout}\n{stderr}"
+    );
+    stdout
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let dir = tempfile::tempdir().unwrap();
+    assert!(checked(dir.path(), &plus(SECOND_PARTICLE)).contains("scene is valid"));
+}
+
+#[test]
+fn missing_file() {
+    refused(None, &["cannot read scene file", "No such file"]);
+}
+
+#[test]
+fn toml_syntax_error_gives_the_right_line() {
+    let scene = edit("density = 2500.0", "density = = 2500.0");
+    let m = refused(Some(&scene), &[&at(&scene, "density = =")]);
+    // The offending line is quoted.
+    assert!(m.contains("    density = = 2500.0"), "{m}");
+}
+
+#[test]
+fn unknown_key_is_named_with_its_line_and_the_known_keys() {
+    let scene = edit("density = 2500.0", "densty = 2500.0");
+    refused(
+        Some(&scene),
+        &[&at(&scene, "densty"), "unknown field `densty`", "`density`"],
+    );
+}
+
+#[test]
+fn negative_density() {
+    let scene = edit("density = 2500.0", "density = -1.0");
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "density"),
+            "[[material]] #1 density",
+            "must be > 0",
+        ],
+    );
+}
+
+#[test]
+fn restitution_outside_0_1() {
+    for e in ["0.0", "1.5"] {
+        let scene = edit("restitution = 0.8", &format!("restitution = {e}"));
+        refused(
+            Some(&scene),
+            &[
+                &at(&scene, "restitution"),
+                "restitution",
+                "must lie in (0, 1]",
+            ],
+        );
+    }
+}
+
+#[test]
+fn poisson_ratio_outside_its_range() {
+    for nu in ["0.5", "-1.0"] {
+        let scene = edit("poisson_ratio = 0.25", &format!("poisson_ratio = {nu}"));
+        refused(
+            Some(&scene),
+            &[
+                &at(&scene, "poisson_ratio"),
+                "poisson_ratio",
+                "must lie in (-1, 0.5)",
+            ],
+        );
+    }
+}
+
+#[test]
+fn overlapping_particles() {
+    let scene = plus(&SECOND_PARTICLE.replace("[0.02,", "[0.005,"));
+    let second_header = at(
+        &scene.replacen("[[particle]]", "[[first]]", 1),
+        "[[particle]]",
+    );
+    refused(
+        Some(&scene),
+        &[
+            &second_header,
+            "[[particle]] #2",
+            "overlaps [[particle]] #1",
+            "initial_overlap_tolerance",
+            "move them apart",
+        ],
+    );
+}
+
+#[test]
+fn particle_overlapping_a_plane() {
+    let scene = edit(
+        "position = [0.0, 0.0, 0.006]",
+        "position = [0.0, 0.0, 0.002]",
+    );
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "[[particle]]"),
+            "overlaps [[plane]] #1",
+            "side the plane's normal points to",
+        ],
+    );
+}
+
+#[test]
+fn time_step_above_the_stable_limit_unless_forced() {
+    let dir = tempfile::tempdir().unwrap();
+    // The estimate, as `check` prints it for time_step = "auto" (the default).
+    let auto = checked(dir.path(), BASE);
+    let estimate = auto
+        .lines()
+        .find_map(|l| l.strip_prefix("time step"))
+        .and_then(|l| l.split_whitespace().next())
+        .expect("check prints the time step")
+        .to_string();
+    assert!(auto.contains("(auto)"), "{auto}");
+
+    let too_large = edit("duration = 0.002", "duration = 0.002\ntime_step = 1e-3");
+    refused(
+        Some(&too_large),
+        &[
+            &at(&too_large, "time_step"),
+            "above the stable estimate",
+            &estimate,
+            "force_time_step = true",
+        ],
+    );
+    let forced = too_large.replace(
+        "time_step = 1e-3",
+        "time_step = 1e-3\nforce_time_step = true",
+    );
+    let stdout = checked(dir.path(), &forced);
+    assert!(
+        stdout.contains(&format!("given; stable estimate {estimate}"))
+            && stdout.contains("scene is valid"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn nan_is_refused() {
+    for (from, to, key) in [
+        (
+            "position = [0.0, 0.0, 0.006]",
+            "position = [nan, 0.0, 0.006]",
+            "[[particle]] #1 position",
+        ),
+        (
+            "density = 2500.0",
+            "density = nan",
+            "[[material]] #1 density",
+        ),
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, nan, 1.0]",
+            "[[plane]] #1 normal",
+        ),
+    ] {
+        let scene = edit(from, to);
+        refused(
+            Some(&scene),
+            &[&at(&scene, to), key, "NaN is not a finite number"],
+        );
+    }
+}
+
+#[test]
+fn unknown_material_name() {
+    let scene = plus(&SECOND_PARTICLE.replace("\"glass\"", "\"sand\""));
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "\"sand\""),
+            "[[particle]] #2 material",
+            "no material named 'sand'",
+            "[\"glass\"]",
+        ],
+    );
+}
+
+#[test]
+fn duplicate_material_name() {
+    let material = &BASE[BASE.find("[[material]]").unwrap()..BASE.find("[[plane]]").unwrap()];
+    let scene = plus(&format!("\n{material}"));
+    let second = scene.rfind("name = \"glass\"").unwrap();
+    let line = scene[..second].lines().count() + 1;
+    refused(
+        Some(&scene),
+        &[
+            &format!("{SCENE}:{line}:"),
+            "[[material]] #2 name",
+            "'glass' is defined twice",
+        ],
+    );
+}
+
+#[test]
+fn linear_contact_needs_a_stiffness() {
+    let scene = plus("\n[contact]\nnormal = \"linear\"\n");
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "[contact]"),
+            "[contact] stiffness",
+            "needs `stiffness` [N/m]",
+        ],
+    );
+}
+
+/// An `[[insert]]` of `body` appended to the base scene, filling a 10 cm box above the plate.
+fn insertion(body: &str) -> String {
+    plus(&format!(
+        "\n[[insert]]\nmaterial = \"glass\"\nregion_min = [0.0, 0.0, 0.02]\n\
+         region_max = [0.1, 0.1, 0.12]\n{body}\n"
+    ))
+}
+
+#[test]
+fn insertions_that_do_not_fit_give_advice() {
+    let scene = insertion("method = \"lattice\"\ncount = 1200\nradius = 0.005");
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "[[insert]]"),
+            "1000 lattice sites",
+            "1200 spheres were asked for",
+            "enlarge the region or ask for fewer",
+        ],
+    );
+    let scene = insertion("method = \"random\"\ncount = 1200\nradius = 0.005");
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "[[insert]]"),
+            "random filling jams",
+            "use method = \"lattice\"",
+        ],
+    );
+    // More sphere volume than any packing holds: refused before drawing a single sphere.
+    let scene = insertion("method = \"random\"\ncount = 1000000000000\nradius = 0.005");
+    refused(
+        Some(&scene),
+        &[
+            &at(&scene, "count ="),
+            "[[insert]] #1 count",
+            "ask for fewer",
+        ],
+    );
+}
+
+#[test]
+fn insertion_of_zero_spheres() {
+    let scene = insertion("method = \"lattice\"\ncount = 0\nradius = 0.005");
+    refused(
+        Some(&scene),
+        &[&at(&scene, "count ="), "count must be at least 1"],
+    );
+}
+
+#[test]
+fn insertion_region_max_not_above_region_min() {
+    for max in ["[0.1, 0.0, 0.12]", "[0.1, 0.1, 0.01]"] {
+        let scene = insertion("method = \"lattice\"\ncount = 10\nradius = 0.005")
+            .replace("[0.1, 0.1, 0.12]", max);
+        refused(
+            Some(&scene),
+            &[
+                &at(&scene, "region_max"),
+                "[[insert]] #1 region_max",
+                "greater than region_min on every axis",
+            ],
+        );
+    }
+}
+
+#[test]
+fn radius_distribution_with_min_above_max_or_an_empty_window() {
+    for (distribution, expected) in [
+        (
+            "{ kind = \"uniform\", min = 0.006, max = 0.004 }",
+            "radius_distribution.max: 0.004 is below min",
+        ),
+        // Drawing radii by rejection from this would never end.
+        (
+            "{ kind = \"normal\", mean = 0.005, std_dev = 0.001, min = 0.005, max = 0.005 }",
+            "widen [min, max]",
+        ),
+    ] {
+        let scene = insertion(&format!(
+            "method = \"random\"\ncount = 10\nradius_distribution = {distribution}"
+        ));
+        refused(
+            Some(&scene),
+            &[&at(&scene, "radius_distribution"), expected],
+        );
+    }
+}
+
+#[test]
+fn every_example_checks_and_prints_its_time_step() {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(&examples)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    scenes.sort();
+    assert!(!scenes.is_empty());
+    for scene in scenes {
+        let stdout = accepted(&polydem(&["check".as_ref(), scene.as_os_str()]));
+        assert!(
+            stdout.contains("time step")
+                && stdout.contains(" s (")
+                && stdout.contains("scene is valid"),
+            "{}:\n{stdout}",
+            scene.display()
+        );
+    }
+}
+
+#[test]
+fn tiny_run_writes_complete_output_and_no_temporaries() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join(SCENE);
+    std::fs::write(&file, plus(SECOND_PARTICLE)).unwrap();
+    let out = dir.path().join("out");
+    accepted(&polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]));
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for wanted in ["energy.csv", "particles.pvd", "walls.pvd"] {
+        assert!(
+            names.iter().any(|n| n == wanted),
+            "no {wanted} in {names:?}"
+        );
+    }
+    for series in ["particles_", "walls_"] {
+        assert!(
+            names
+                .iter()
+                .any(|n| n.starts_with(series) && n.ends_with(".vtp")),
+            "no {series}*.vtp in {names:?}"
+        );
+    }
+    assert!(
+        names.iter().all(|n| !n.starts_with('.')),
+        "temporary files left: {names:?}"
+    );
+    // Start plus one row per output interval: 0.002 s / 0.0005 s = 4 more.
+    let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
+    assert_eq!(energy.lines().count(), 1 + 5, "{energy}");
+}
