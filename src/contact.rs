@@ -25,13 +25,17 @@ pub struct ContactList {
 
 impl ContactList {
     /// Replaces the contacts by `found` (sorted by `(a, b)`), keeping the history of every pair
-    /// that was already in contact; a new contact starts with empty history.
-    pub fn update(&mut self, found: &[(u32, u32, Geometry)]) {
+    /// that was already in contact; a new contact starts with empty history. Returns the energy
+    /// the history springs of the contacts that ended still held (see [`History::stored_energy`]).
+    pub fn update(&mut self, found: &[(u32, u32, Geometry)]) -> f64 {
         std::mem::swap(&mut self.contacts, &mut self.previous);
         self.contacts.clear();
+        let mut lost = 0.0;
         let mut old = self.previous.iter().peekable();
         for &(a, b, geometry) in found {
-            while old.next_if(|c| (c.a, c.b) < (a, b)).is_some() {}
+            while let Some(ended) = old.next_if(|c| (c.a, c.b) < (a, b)) {
+                lost += ended.history.stored_energy();
+            }
             let history = match old.next_if(|c| (c.a, c.b) == (a, b)) {
                 Some(c) => c.history,
                 None => History::default(),
@@ -44,6 +48,7 @@ impl ContactList {
                 response: Response::default(),
             });
         }
+        lost + old.map(|ended| ended.history.stored_energy()).sum::<f64>()
     }
 
     pub fn len(&self) -> usize {
@@ -76,8 +81,10 @@ mod tests {
         list.update(&[(0, 2, geometry()), (1, 2, geometry())]);
         assert_eq!(list.contacts[0].history, History::default());
         assert_eq!(list.contacts[1].history.tangential_spring, DVec3::X);
-        // A contact that ends forgets its history.
-        list.update(&[(0, 2, geometry())]);
+        // A contact that ends forgets its history, and gives back the energy its springs held.
+        list.contacts[1].history.tangential_stiffness = 4.0;
+        let lost = list.update(&[(0, 2, geometry())]);
+        assert_eq!(lost, 0.5 * 4.0);
         list.update(&[(0, 2, geometry()), (1, 2, geometry())]);
         assert_eq!(list.contacts[1].history, History::default());
     }

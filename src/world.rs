@@ -216,7 +216,7 @@ impl World {
                 let (a, b) = (i as usize, j as usize);
                 narrow_phase::sphere_sphere(x[a], r[a], x[b], r[b]).map(|g| (i, j, g))
             }));
-        self.contacts.update(&self.found);
+        self.dissipated += self.contacts.update(&self.found);
 
         let planes = &self.planes;
         self.found.clear();
@@ -231,7 +231,7 @@ impl World {
                     })
                 }),
         );
-        self.plane_contacts.update(&self.found);
+        self.dissipated += self.plane_contacts.update(&self.found);
     }
 
     fn evaluate_contacts(&mut self, dt: f64) {

@@ -79,6 +79,21 @@ pub struct History {
     pub rolling_stiffness: f64,
 }
 
+impl History {
+    /// Energy held in the history springs (tangential and rolling). When a contact ends this
+    /// energy is lost with it: the ledger counts it as dissipated. (The normal spring needs no
+    /// such care: its energy goes back into motion as the overlap closes.)
+    pub fn stored_energy(&self) -> f64 {
+        let tangential = 0.5 * self.tangential_stiffness * self.tangential_spring.length_squared();
+        let rolling = if self.rolling_stiffness > 0.0 {
+            0.5 * self.rolling_torque.length_squared() / self.rolling_stiffness
+        } else {
+            0.0
+        };
+        tangential + rolling
+    }
+}
+
 /// Force and torque the contact applies to body i (body j gets the reaction), and energy figures.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Response {
