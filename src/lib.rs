@@ -4,6 +4,7 @@
 //! integrator, the broad phase finds close pairs, the narrow phase their contact geometry, the
 //! contact laws their forces, and the forces are summed onto the bodies.
 
+pub mod bench;
 pub mod body;
 pub mod broad_phase;
 pub mod contact;

@@ -35,6 +35,38 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
+    /// Measure speed; prints a Markdown table for docs/benchmarks.md.
+    Bench {
+        #[command(subcommand)]
+        what: Bench,
+    },
+}
+
+#[derive(Subcommand)]
+enum Bench {
+    /// Time per broad-phase update on a moving gas, a dense packing and a 1:20 bidisperse packing.
+    BroadPhase {
+        /// Body counts, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1000,10000,100000,1000000"
+        )]
+        sizes: Vec<usize>,
+        /// Methods, comma separated (sweep_and_prune, cell_grid, brute_force).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "sweep_and_prune,cell_grid,brute_force"
+        )]
+        methods: Vec<String>,
+        /// Timed updates per case (after 3 untimed ones); the median is reported.
+        #[arg(long, default_value_t = 20)]
+        steps: usize,
+        /// Brute force is skipped above this many bodies (it is O(n²)).
+        #[arg(long, default_value_t = 20000)]
+        brute_force_limit: usize,
+    },
 }
 
 fn main() -> ExitCode {
@@ -46,6 +78,15 @@ fn main() -> ExitCode {
             threads,
         } => run(&scene, out, threads),
         Command::Check { scene } => check(&scene),
+        Command::Bench {
+            what:
+                Bench::BroadPhase {
+                    sizes,
+                    methods,
+                    steps,
+                    brute_force_limit,
+                },
+        } => bench_broad_phase(&sizes, &methods, steps, brute_force_limit),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -127,5 +168,44 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
         w.steps_done,
         (w.steps_done as f64 * w.bodies.len() as f64) / seconds.max(1e-9)
     );
+    Ok(())
+}
+
+fn bench_broad_phase(
+    sizes: &[usize],
+    methods: &[String],
+    steps: usize,
+    brute_force_limit: usize,
+) -> Result<(), String> {
+    use polydem::bench::broad_phase::{time, Scene};
+    use polydem::broad_phase::Method;
+    let methods: Vec<Method> = methods
+        .iter()
+        .map(|m| {
+            Method::from_name(m).ok_or_else(|| {
+                format!("unknown broad phase '{m}': use sweep_and_prune, cell_grid or brute_force")
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    println!("| scene | bodies | method | ms per update | candidate pairs |");
+    println!("| --- | ---: | --- | ---: | ---: |");
+    for scene in [Scene::Gas, Scene::Packing, Scene::Bidisperse] {
+        for &n in sizes {
+            for &method in &methods {
+                if method == Method::BruteForce && n > brute_force_limit {
+                    continue;
+                }
+                let t = time(scene, n, method, 3, steps);
+                println!(
+                    "| {} | {} | {} | {:.3} | {:.0} |",
+                    t.scene.name(),
+                    t.bodies,
+                    t.method,
+                    t.seconds_per_step * 1e3,
+                    t.pairs
+                );
+            }
+        }
+    }
     Ok(())
 }

@@ -32,6 +32,14 @@ pub enum Method {
 }
 
 impl Method {
+    /// The method of a scene-file name (`cell_grid`, `brute_force`, ...).
+    pub fn from_name(name: &str) -> Option<Self> {
+        serde::Deserialize::deserialize(
+            serde::de::value::StrDeserializer::<serde::de::value::Error>::new(name),
+        )
+        .ok()
+    }
+
     pub fn build(self) -> Box<dyn BroadPhase> {
         match self {
             Method::CellGrid => Box::new(CellGrid::default()),
