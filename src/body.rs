@@ -93,4 +93,33 @@ impl Bodies {
         self.force.push(DVec3::ZERO);
         self.torque.push(DVec3::ZERO);
     }
+
+    /// Keeps the bodies whose `keep` flag is set, in their order; the others are removed.
+    pub fn retain(&mut self, keep: &[bool]) {
+        fn compact<T: Copy>(values: &mut Vec<T>, keep: &[bool]) {
+            let mut next = 0;
+            for i in 0..values.len() {
+                if keep[i] {
+                    values[next] = values[i];
+                    next += 1;
+                }
+            }
+            values.truncate(next);
+        }
+        compact(&mut self.id, keep);
+        compact(&mut self.shape, keep);
+        compact(&mut self.material, keep);
+        compact(&mut self.bounding_radius, keep);
+        compact(&mut self.position, keep);
+        compact(&mut self.orientation, keep);
+        compact(&mut self.velocity, keep);
+        compact(&mut self.angular_momentum, keep);
+        compact(&mut self.angular_velocity, keep);
+        compact(&mut self.mass, keep);
+        compact(&mut self.inv_mass, keep);
+        compact(&mut self.inertia, keep);
+        compact(&mut self.inv_inertia, keep);
+        compact(&mut self.force, keep);
+        compact(&mut self.torque, keep);
+    }
 }

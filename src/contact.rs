@@ -51,6 +51,29 @@ impl ContactList {
         lost + old.map(|ended| ended.history.stored_energy()).sum::<f64>()
     }
 
+    /// After bodies were removed: renumbers the contacts by `new_index` (`u32::MAX` for a removed
+    /// body) and drops those of removed bodies. `b_is_body` says whether `b` is a body index (or a
+    /// wall's). The renumbering keeps the order, so the list stays sorted. Returns the elastic
+    /// energy the dropped contacts held.
+    pub fn renumber(&mut self, new_index: &[u32], b_is_body: bool) -> f64 {
+        let mut lost = 0.0;
+        self.contacts.retain_mut(|c| {
+            let a = new_index[c.a as usize];
+            let b = if b_is_body {
+                new_index[c.b as usize]
+            } else {
+                c.b
+            };
+            if a == u32::MAX || b == u32::MAX {
+                lost += c.response.elastic_energy;
+                return false;
+            }
+            (c.a, c.b) = (a, b);
+            true
+        });
+        lost
+    }
+
     pub fn len(&self) -> usize {
         self.contacts.len()
     }

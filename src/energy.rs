@@ -18,6 +18,10 @@ pub struct EnergyReport {
     pub elastic: f64,
     /// Energy dissipated since the start [J].
     pub dissipated: f64,
+    /// Energy carried out by removed bodies since the start [J].
+    pub removed: f64,
+    /// Energy brought in by bodies inserted during the run [J].
+    pub inserted: f64,
     /// Body–body plus body–wall contacts.
     pub contacts: usize,
 }
@@ -27,6 +31,8 @@ impl EnergyReport {
         let b = &world.bodies;
         let mut report = Self {
             dissipated: world.dissipated,
+            removed: world.energy_removed,
+            inserted: world.energy_inserted,
             contacts: world.contacts.len() + world.plane_contacts.len(),
             ..Self::default()
         };
@@ -50,12 +56,15 @@ impl EnergyReport {
         report
     }
 
-    /// Kinetic + potential + elastic + dissipated: constant up to integration error.
+    /// Kinetic + potential + elastic + dissipated + carried out − brought in: constant up to
+    /// integration error.
     pub fn total(&self) -> f64 {
         self.kinetic_translational
             + self.kinetic_rotational
             + self.potential
             + self.elastic
             + self.dissipated
+            + self.removed
+            - self.inserted
     }
 }

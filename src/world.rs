@@ -45,6 +45,16 @@ pub struct World {
     pub plane_contacts: ContactList,
     /// Energy taken out by damping, sliding and rolling resistance since the start [J].
     pub dissipated: f64,
+    /// Bodies whose centre leaves this box are removed (an open boundary); `None`: never.
+    pub domain: Option<Aabb>,
+    /// Kinetic and potential energy brought in by bodies inserted during the run [J].
+    pub energy_inserted: f64,
+    /// Kinetic, potential and contact energy carried out by removed bodies [J].
+    pub energy_removed: f64,
+    /// Bodies removed so far.
+    pub bodies_removed: u64,
+    next_id: u64,
+    broad_phase_method: broad_phase::Method,
     /// See [`WorldConfig::skin`]; `None` until bodies exist to size it from.
     skin_setting: Option<f64>,
     skin: f64,
@@ -79,8 +89,14 @@ impl World {
             contacts: ContactList::default(),
             plane_contacts: ContactList::default(),
             dissipated: 0.0,
+            domain: None,
+            energy_inserted: 0.0,
+            energy_removed: 0.0,
+            bodies_removed: 0,
+            next_id: 0,
+            broad_phase_method: config.broad_phase,
             skin_setting: config.skin,
-            skin: 0.0,
+            skin: config.skin.unwrap_or(f64::INFINITY),
             pair_rebuilds: 0,
             broad_phase: config.broad_phase.build(),
             reference_position: Vec::new(),
@@ -93,7 +109,7 @@ impl World {
         })
     }
 
-    /// Adds a body; its id is its insertion number. Returns the body's index.
+    /// Adds a body while setting up; its id is its insertion number. Returns the body's index.
     pub fn add_body(&mut self, init: BodyInit) -> usize {
         let density = self.materials[init.material as usize].density;
         let unit = init.shape.unit_mass_properties();
@@ -101,32 +117,90 @@ impl World {
             self.shapes.push(init.shape.clone());
         }
         let shape_id = (self.shapes.len() - 1) as u32;
-        let id = self.bodies.len() as u64;
+        let radius = init.shape.bounding_radius();
         self.bodies.push(
-            id,
+            self.next_id,
             shape_id,
             init.material,
-            init.shape.bounding_radius(),
+            radius,
             density * unit.volume,
             density * unit.principal_inertia_per_density,
             &init,
         );
+        self.next_id += 1;
+        self.structure_changed();
+        if self.skin_setting.is_none() {
+            self.skin = self.skin.min(Self::default_skin(radius));
+        }
+        self.bodies.len() - 1
+    }
+
+    /// Adds a body during a run; its energy is booked as brought in, so the ledger still closes.
+    pub fn insert_body(&mut self, init: BodyInit) -> usize {
+        let i = self.add_body(init);
+        self.energy_inserted += self.body_energy(i);
+        i
+    }
+
+    /// Removes the bodies whose `keep` flag is false, with their contacts; their energy is
+    /// booked as carried out.
+    pub fn remove_bodies(&mut self, keep: &[bool]) {
+        let mut new_index = Vec::with_capacity(keep.len());
+        let mut next = 0u32;
+        for (i, &k) in keep.iter().enumerate() {
+            if k {
+                new_index.push(next);
+                next += 1;
+            } else {
+                new_index.push(u32::MAX);
+                self.energy_removed += self.body_energy(i);
+                self.bodies_removed += 1;
+            }
+        }
+        if next as usize == keep.len() {
+            return;
+        }
+        self.energy_removed += self.contacts.renumber(&new_index, true);
+        self.energy_removed += self.plane_contacts.renumber(&new_index, false);
+        self.bodies.retain(keep);
+        self.structure_changed();
+    }
+
+    /// Removes every body whose centre is outside [`World::domain`].
+    fn remove_bodies_outside_domain(&mut self) {
+        let Some(domain) = self.domain else { return };
+        let outside = |x: &DVec3| x.cmplt(domain.min).any() || x.cmpgt(domain.max).any();
+        if !self.bodies.position.par_iter().any(outside) {
+            return;
+        }
+        let keep: Vec<bool> = self.bodies.position.iter().map(|x| !outside(x)).collect();
+        self.remove_bodies(&keep);
+    }
+
+    /// Kinetic (translational and rotational) plus gravitational energy of one body.
+    fn body_energy(&self, i: usize) -> f64 {
+        let b = &self.bodies;
+        0.5 * b.mass[i] * b.velocity[i].length_squared()
+            + integrate::rotation::rotational_energy(
+                b.orientation[i],
+                b.angular_momentum[i],
+                b.inv_inertia[i],
+            )
+            - b.mass[i] * self.gravity.dot(b.position[i])
+    }
+
+    /// Bodies were added or removed: indices changed, so the broad phase starts afresh and the
+    /// forces are recomputed before the next step.
+    fn structure_changed(&mut self) {
         self.forces_current = false;
         self.pairs_valid = false;
-        self.skin = self
-            .skin_setting
-            .unwrap_or_else(|| Self::default_skin(&self.bodies));
-        self.bodies.len() - 1
+        self.broad_phase = self.broad_phase_method.build();
     }
 
     /// A fifth of the smallest bounding radius: small enough that the extra candidate pairs cost
     /// little, large enough that the list lasts many steps at the speeds DEM time steps allow.
-    pub fn default_skin(bodies: &Bodies) -> f64 {
-        0.2 * bodies
-            .bounding_radius
-            .iter()
-            .cloned()
-            .fold(f64::INFINITY, f64::min)
+    pub fn default_skin(smallest_radius: f64) -> f64 {
+        0.2 * smallest_radius
     }
 
     /// The skin distance in use [m].
@@ -162,6 +236,7 @@ impl World {
         integrate::drift(&mut self.bodies, dt);
         self.update_forces(dt);
         integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
+        self.remove_bodies_outside_domain();
         self.time += dt;
         self.steps_done += 1;
     }

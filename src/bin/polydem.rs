@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polydem::run::RunEvent;
 use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -155,9 +156,23 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
             .expect("the template is valid"),
     );
     let start = Instant::now();
-    let result = polydem::run::run(&mut prepared, &out, |w| {
-        bar.set_position(w.steps_done);
-        bar.set_message(format!("{:.4} / {duration} s", w.time));
+    let result = polydem::run::run(&mut prepared, &out, |event| match event {
+        RunEvent::Progress(w) => {
+            bar.set_position(w.steps_done);
+            bar.set_message(format!("{:.4} / {duration} s", w.time));
+        }
+        RunEvent::Inserted(r) => {
+            let line = format!(
+                "t = {:.4} s: [[insert]] #{} added {} bodies",
+                r.time,
+                r.index + 1,
+                r.inserted
+            );
+            match &r.shortfall {
+                Some(why) => bar.println(format!("{line}; not all fitted: {why}")),
+                None => bar.println(line),
+            }
+        }
     });
     bar.finish_and_clear();
     result.map_err(|e| format!("writing output to '{}': {e}", out.display()))?;
@@ -168,6 +183,12 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
         w.steps_done,
         (w.steps_done as f64 * w.bodies.len() as f64) / seconds.max(1e-9)
     );
+    if w.bodies_removed > 0 {
+        println!(
+            "             {} bodies left the domain and were removed",
+            w.bodies_removed
+        );
+    }
     Ok(())
 }
 

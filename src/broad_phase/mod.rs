@@ -5,9 +5,11 @@
 
 mod brute_force;
 mod cell_grid;
+mod sweep_and_prune;
 
 pub use brute_force::BruteForce;
 pub use cell_grid::CellGrid;
+pub use sweep_and_prune::SweepAndPrune;
 
 use crate::math::Aabb;
 
@@ -29,6 +31,8 @@ pub enum Method {
     #[default]
     CellGrid,
     BruteForce,
+    /// Insertion-sorted endpoint lists (Schinner's LLL), see [`SweepAndPrune`].
+    SweepAndPrune,
 }
 
 impl Method {
@@ -44,6 +48,7 @@ impl Method {
         match self {
             Method::CellGrid => Box::new(CellGrid::default()),
             Method::BruteForce => Box::new(BruteForce),
+            Method::SweepAndPrune => Box::new(SweepAndPrune::default()),
         }
     }
 }
@@ -77,6 +82,93 @@ mod tests {
             grid.find_pairs(&boxes, &mut found);
             prop_assert_eq!(found, expected);
         }
+    }
+
+    /// A body on a coarse grid (multiples of 0.25) so that coincident coordinates and exactly
+    /// touching boxes are common: centre in [0, 10]³, half extents per axis mostly 0–0.5 but up
+    /// to 5 (size ratios 1:20 and more; 0 gives flat boxes and points).
+    fn grid_body() -> impl Strategy<Value = ([i32; 3], [i32; 3])> {
+        let half = prop_oneof![3 => 0..=2i32, 1 => 1..=20i32];
+        (
+            prop::array::uniform3(0..=40i32),
+            prop::array::uniform3(half),
+        )
+    }
+
+    #[derive(Clone, Debug)]
+    enum Motion {
+        /// Small move of one body along one axis, by -2..=2 grid steps.
+        Jitter(prop::sample::Index, usize, i32),
+        /// Jump anywhere (a "teleport").
+        Jump(prop::sample::Index, [i32; 3]),
+        Resize(prop::sample::Index, [i32; 3]),
+        Add(([i32; 3], [i32; 3])),
+        /// `swap_remove`, which also renumbers the last body.
+        Remove(prop::sample::Index),
+    }
+
+    fn motion() -> impl Strategy<Value = Motion> {
+        prop_oneof![
+            12 => (any::<prop::sample::Index>(), 0..3usize, -2..=2i32)
+                .prop_map(|(i, a, d)| Motion::Jitter(i, a, d)),
+            1 => (any::<prop::sample::Index>(), prop::array::uniform3(0..=40i32))
+                .prop_map(|(i, c)| Motion::Jump(i, c)),
+            1 => (any::<prop::sample::Index>(), grid_body())
+                .prop_map(|(i, (_, h))| Motion::Resize(i, h)),
+            1 => grid_body().prop_map(Motion::Add),
+            1 => any::<prop::sample::Index>().prop_map(Motion::Remove),
+        ]
+    }
+
+    fn grid_boxes(bodies: &[([i32; 3], [i32; 3])]) -> Vec<Aabb> {
+        let v = |a: [i32; 3]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64) * 0.25;
+        bodies
+            .iter()
+            .map(|&(c, h)| Aabb::new(v(c) - v(h), v(c) + v(h)))
+            .collect()
+    }
+
+    proptest! {
+        /// Every method against brute force at every call of a run of motions: jitter, jumps,
+        /// size changes, bodies added and removed (each with its own reused state).
+        #[test]
+        fn methods_match_brute_force_through_motion(
+            initial in prop::collection::vec(grid_body(), 0..200),
+            steps in prop::collection::vec(prop::collection::vec(motion(), 0..80), 1..12),
+        ) {
+            let mut bodies = initial;
+            let mut methods: Vec<Box<dyn BroadPhase>> =
+                vec![Box::new(SweepAndPrune::default()), Box::new(CellGrid::default())];
+            let (mut expected, mut found) = (Vec::new(), Vec::new());
+            for (call, step) in std::iter::once(&Vec::new()).chain(&steps).enumerate() {
+                for m in step {
+                    let n = bodies.len();
+                    match m {
+                        Motion::Jitter(i, a, d) if n > 0 => bodies[i.index(n)].0[*a] += d,
+                        Motion::Jump(i, c) if n > 0 => bodies[i.index(n)].0 = *c,
+                        Motion::Resize(i, h) if n > 0 => bodies[i.index(n)].1 = *h,
+                        Motion::Add(b) => bodies.push(*b),
+                        Motion::Remove(i) if n > 0 => {
+                            bodies.swap_remove(i.index(n));
+                        }
+                        _ => {}
+                    }
+                }
+                let boxes = grid_boxes(&bodies);
+                BruteForce.find_pairs(&boxes, &mut expected);
+                for method in &mut methods {
+                    method.find_pairs(&boxes, &mut found);
+                    prop_assert_eq!(&found, &expected, "{} at call {}", method.name(), call);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sweep_and_prune_is_a_scene_method() {
+        let m = Method::from_name("sweep_and_prune");
+        assert_eq!(m, Some(Method::SweepAndPrune));
+        assert_eq!(m.unwrap().build().name(), "sweep_and_prune");
     }
 
     #[test]

@@ -13,13 +13,15 @@ use crate::world::World;
 use std::io;
 use std::path::{Path, PathBuf};
 
-pub const ENERGY_COLUMNS: [&str; 9] = [
+pub const ENERGY_COLUMNS: [&str; 11] = [
     "time",
     "kinetic_translational",
     "kinetic_rotational",
     "potential_gravity",
     "elastic",
     "dissipated",
+    "removed",
+    "inserted",
     "total",
     "contacts",
     "bodies",
@@ -91,6 +93,8 @@ impl RunOutput {
             e.potential,
             e.elastic,
             e.dissipated,
+            e.removed,
+            e.inserted,
             e.total(),
             e.contacts as f64,
             b.len() as f64,

@@ -21,6 +21,15 @@ pub struct SceneFile {
     pub particles: Vec<ParticleSpec>,
     #[serde(default, rename = "insert")]
     pub insertions: Vec<InsertSpec>,
+    pub domain: Option<DomainSpec>,
+}
+
+/// An open boundary: bodies whose centre leaves this box are removed.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DomainSpec {
+    pub min: Vec3,
+    pub max: Vec3,
 }
 
 #[derive(Debug, Deserialize)]
@@ -172,7 +181,7 @@ pub enum InsertMethod {
     Random,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct InsertSpec {
     pub method: InsertMethod,
@@ -187,6 +196,13 @@ pub struct InsertSpec {
     pub seed: u64,
     #[serde(default)]
     pub velocity: Vec3,
+    /// Simulated time of the (first) insertion [s]; 0 = when the scene is built.
+    #[serde(default)]
+    pub time: f64,
+    /// Repeat the insertion at this interval [s].
+    pub every: Option<f64>,
+    /// No repeats after this time [s]; default: the end of the run.
+    pub until: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Clone, Copy, PartialEq)]

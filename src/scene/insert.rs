@@ -13,31 +13,110 @@ pub struct Placed {
     pub radius: f64,
 }
 
-/// Why an insertion could not be done (the caller adds file and key).
+/// Why an insertion could not be done in full (the caller adds file and key), with the spheres
+/// that could be placed: a scene refuses to start with fewer, a run in progress inserts those.
 #[derive(Clone, Debug, PartialEq)]
-pub struct InsertError(pub String);
+pub struct InsertError {
+    pub message: String,
+    pub placed: Vec<Placed>,
+}
+
+/// A plane wall spheres must stay in front of: a point on it and its unit normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneObstacle {
+    pub point: DVec3,
+    pub normal: DVec3,
+}
 
 /// Random sequential addition tries this many places per sphere before giving up.
 const ATTEMPTS_PER_SPHERE: usize = 2000;
 
-/// Places the spheres one insertion asks for, avoiding the spheres in `existing`.
-pub fn insert(spec: &InsertSpec, existing: &[Placed]) -> Result<Vec<Placed>, InsertError> {
+/// Places the spheres one insertion asks for, avoiding the spheres in `existing` and the planes.
+/// `repetition` varies the random stream for repeated insertions of the same spec.
+pub fn insert(
+    spec: &InsertSpec,
+    existing: &[Placed],
+    planes: &[PlaneObstacle],
+    repetition: u64,
+) -> Result<Vec<Placed>, InsertError> {
     let min = DVec3::from(spec.region_min);
     let max = DVec3::from(spec.region_max);
-    let mut rng = SplitMix64::new(spec.seed);
-    let radii = draw_radii(spec, (max - min).element_product(), &mut rng)?;
+    let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
+    let radii = draw_radii(spec, (max - min).element_product(), &mut rng);
+    let r_max = radii.iter().cloned().fold(0.0, f64::max);
+    let mut obstacles = Obstacles::new(existing, planes, r_max);
     match spec.method {
-        InsertMethod::Lattice => lattice(min, max, &radii),
-        InsertMethod::Random => random(min, max, radii, existing, &mut rng),
+        InsertMethod::Lattice => lattice(min, max, &radii, &mut obstacles),
+        InsertMethod::Random => random(min, max, radii, &mut obstacles, &mut rng),
+    }
+}
+
+/// What a new sphere must not overlap: spheres (hashed on a grid) and planes.
+struct Obstacles<'a> {
+    cell: f64,
+    grid: HashMap<(i64, i64, i64), Vec<Placed>>,
+    planes: &'a [PlaneObstacle],
+}
+
+impl<'a> Obstacles<'a> {
+    fn new(existing: &[Placed], planes: &'a [PlaneObstacle], r_max: f64) -> Self {
+        let largest = existing.iter().map(|p| p.radius).fold(r_max, f64::max);
+        let mut obstacles = Self {
+            cell: 2.0 * largest.max(f64::MIN_POSITIVE),
+            grid: HashMap::new(),
+            planes,
+        };
+        for p in existing {
+            obstacles.add(*p);
+        }
+        obstacles
+    }
+
+    fn key(&self, p: DVec3) -> (i64, i64, i64) {
+        let c = (p / self.cell).floor();
+        (c.x as i64, c.y as i64, c.z as i64)
+    }
+
+    fn add(&mut self, p: Placed) {
+        self.grid.entry(self.key(p.centre)).or_default().push(p);
+    }
+
+    fn is_free(&self, centre: DVec3, radius: f64) -> bool {
+        let in_front = |w: &PlaneObstacle| (centre - w.point).dot(w.normal) >= radius;
+        if !self.planes.iter().all(in_front) {
+            return false;
+        }
+        let (kx, ky, kz) = self.key(centre);
+        (-1..=1).all(|dx| {
+            (-1..=1).all(|dy| {
+                (-1..=1).all(|dz| {
+                    self.grid
+                        .get(&(kx + dx, ky + dy, kz + dz))
+                        .is_none_or(|cell| {
+                            // Touching is allowed, to within the rounding of lattice coordinates.
+                            cell.iter().all(|p| {
+                                (p.centre - centre).length_squared()
+                                    >= ((p.radius + radius) * (1.0 - 1e-9)).powi(2)
+                            })
+                        })
+                })
+            })
+        })
+    }
+}
+
+/// The smallest radius an insertion can produce.
+pub fn smallest_radius(spec: &InsertSpec) -> f64 {
+    match (spec.radius, spec.radius_distribution) {
+        (Some(r), _) => r,
+        (None, Some(RadiusDistribution::Uniform { min, .. }))
+        | (None, Some(RadiusDistribution::Normal { min, .. })) => min,
+        (None, None) => unreachable!("validated: radius or radius_distribution is given"),
     }
 }
 
 /// Radii for the insertion: `count` of them, or as many as make up `volume_fraction` of the region.
-fn draw_radii(
-    spec: &InsertSpec,
-    region_volume: f64,
-    rng: &mut SplitMix64,
-) -> Result<Vec<f64>, InsertError> {
+fn draw_radii(spec: &InsertSpec, region_volume: f64, rng: &mut SplitMix64) -> Vec<f64> {
     let mut draw = || -> f64 {
         match (spec.radius, spec.radius_distribution) {
             (Some(r), _) => r,
@@ -60,7 +139,7 @@ fn draw_radii(
         }
     };
     match (spec.count, spec.volume_fraction) {
-        (Some(n), _) => Ok((0..n).map(|_| draw()).collect()),
+        (Some(n), _) => (0..n).map(|_| draw()).collect(),
         (None, Some(fraction)) => {
             let target = fraction * region_volume;
             let mut radii = Vec::new();
@@ -70,14 +149,20 @@ fn draw_radii(
                 volume += 4.0 / 3.0 * PI * r.powi(3);
                 radii.push(r);
             }
-            Ok(radii)
+            radii
         }
         (None, None) => unreachable!("validated: count or volume_fraction is given"),
     }
 }
 
-/// Simple cubic lattice with spacing 2 r_max, filled x first, then y, then z (bottom up).
-fn lattice(min: DVec3, max: DVec3, radii: &[f64]) -> Result<Vec<Placed>, InsertError> {
+/// Simple cubic lattice with spacing 2 r_max, filled x first, then y, then z (bottom up);
+/// sites where a sphere would overlap an obstacle are skipped.
+fn lattice(
+    min: DVec3,
+    max: DVec3,
+    radii: &[f64],
+    obstacles: &mut Obstacles,
+) -> Result<Vec<Placed>, InsertError> {
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let spacing = 2.0 * r_max;
     let fits = |lo: f64, hi: f64| -> usize {
@@ -89,23 +174,32 @@ fn lattice(min: DVec3, max: DVec3, radii: &[f64]) -> Result<Vec<Placed>, InsertE
     };
     let (nx, ny, nz) = (fits(min.x, max.x), fits(min.y, max.y), fits(min.z, max.z));
     let sites = nx * ny * nz;
-    if radii.len() > sites {
-        return Err(InsertError(format!(
-            "the region holds {sites} lattice sites of spacing {spacing:.4e} m ({nx}×{ny}×{nz}) \
-             but {} spheres were asked for: enlarge the region or ask for fewer",
-            radii.len()
-        )));
+    let mut placed = Vec::with_capacity(radii.len());
+    for n in 0..sites {
+        let Some(&r) = radii.get(placed.len()) else {
+            break;
+        };
+        let (i, j, k) = (n % nx, (n / nx) % ny, n / (nx * ny));
+        let centre = min + DVec3::splat(r_max) + DVec3::new(i as f64, j as f64, k as f64) * spacing;
+        if obstacles.is_free(centre, r) {
+            let p = Placed { centre, radius: r };
+            obstacles.add(p);
+            placed.push(p);
+        }
     }
-    Ok(radii
-        .iter()
-        .enumerate()
-        .map(|(n, &radius)| {
-            let (i, j, k) = (n % nx, (n / nx) % ny, n / (nx * ny));
-            let centre =
-                min + DVec3::splat(r_max) + DVec3::new(i as f64, j as f64, k as f64) * spacing;
-            Placed { centre, radius }
-        })
-        .collect())
+    if placed.len() < radii.len() {
+        return Err(InsertError {
+            message: format!(
+                "the region holds {sites} lattice sites of spacing {spacing:.4e} m \
+                 ({nx}×{ny}×{nz}), {} of them free of other bodies and walls, but {} spheres \
+                 were asked for: enlarge the region or ask for fewer",
+                placed.len(),
+                radii.len()
+            ),
+            placed,
+        });
+    }
+    Ok(placed)
 }
 
 /// Random sequential addition: largest spheres first, each at the first random place that overlaps
@@ -115,64 +209,43 @@ fn random(
     min: DVec3,
     max: DVec3,
     mut radii: Vec<f64>,
-    existing: &[Placed],
+    obstacles: &mut Obstacles,
     rng: &mut SplitMix64,
 ) -> Result<Vec<Placed>, InsertError> {
     radii.sort_by(|a, b| b.total_cmp(a));
-    let r_max = radii.first().copied().unwrap_or(0.0);
-    let cell = 2.0 * r_max.max(existing.iter().map(|p| p.radius).fold(0.0, f64::max));
-    let key = |p: DVec3| -> (i64, i64, i64) {
-        let c = (p / cell).floor();
-        (c.x as i64, c.y as i64, c.z as i64)
-    };
-    let mut grid: HashMap<(i64, i64, i64), Vec<Placed>> = HashMap::new();
-    for p in existing {
-        grid.entry(key(p.centre)).or_default().push(*p);
-    }
     let mut placed = Vec::with_capacity(radii.len());
     for &radius in &radii {
         let lo = min + DVec3::splat(radius);
         let hi = max - DVec3::splat(radius);
         if lo.cmpgt(hi).any() {
-            return Err(InsertError(format!(
-                "a sphere of radius {radius:.4e} m does not fit in the region"
-            )));
-        }
-        let mut found = None;
-        for _ in 0..ATTEMPTS_PER_SPHERE {
-            let c = DVec3::new(
-                rng.uniform(lo.x, hi.x),
-                rng.uniform(lo.y, hi.y),
-                rng.uniform(lo.z, hi.z),
-            );
-            let (kx, ky, kz) = key(c);
-            let free = (-1..=1).all(|dx| {
-                (-1..=1).all(|dy| {
-                    (-1..=1).all(|dz| {
-                        grid.get(&(kx + dx, ky + dy, kz + dz)).is_none_or(|cell| {
-                            cell.iter().all(|p| {
-                                (p.centre - c).length_squared() >= (p.radius + radius).powi(2)
-                            })
-                        })
-                    })
-                })
+            return Err(InsertError {
+                message: format!("a sphere of radius {radius:.4e} m does not fit in the region"),
+                placed,
             });
-            if free {
-                found = Some(c);
-                break;
-            }
         }
+        let found = (0..ATTEMPTS_PER_SPHERE)
+            .map(|_| {
+                DVec3::new(
+                    rng.uniform(lo.x, hi.x),
+                    rng.uniform(lo.y, hi.y),
+                    rng.uniform(lo.z, hi.z),
+                )
+            })
+            .find(|&c| obstacles.is_free(c, radius));
         let Some(centre) = found else {
-            return Err(InsertError(format!(
-                "placed only {} of {} spheres without overlap after {ATTEMPTS_PER_SPHERE} tries \
-                 for the next one: random filling jams near 30% volume fraction; enlarge the \
-                 region, ask for fewer spheres, or use method = \"lattice\"",
-                placed.len(),
-                radii.len()
-            )));
+            return Err(InsertError {
+                message: format!(
+                    "placed only {} of {} spheres without overlap after {ATTEMPTS_PER_SPHERE} \
+                     tries for the next one: random filling jams near 30% volume fraction; \
+                     enlarge the region, ask for fewer spheres, or use method = \"lattice\"",
+                    placed.len(),
+                    radii.len()
+                ),
+                placed,
+            });
         };
         let p = Placed { centre, radius };
-        grid.entry(key(centre)).or_default().push(p);
+        obstacles.add(p);
         placed.push(p);
     }
     Ok(placed)
@@ -194,6 +267,9 @@ mod tests {
             radius_distribution: None,
             seed: 3,
             velocity: [0.0; 3],
+            time: 0.0,
+            every: None,
+            until: None,
         }
     }
 
@@ -215,7 +291,7 @@ mod tests {
     #[test]
     fn lattice_and_random_fills_are_inside_and_do_not_overlap() {
         for method in [InsertMethod::Lattice, InsertMethod::Random] {
-            let p = insert(&spec(method), &[]).unwrap();
+            let p = insert(&spec(method), &[], &[], 0).unwrap();
             assert_eq!(p.len(), 100);
             assert!(no_overlaps(&p) && inside(&p), "{method:?}");
         }
@@ -223,11 +299,11 @@ mod tests {
 
     #[test]
     fn random_fill_is_reproducible_and_seed_dependent() {
-        let a = insert(&spec(InsertMethod::Random), &[]).unwrap();
-        assert_eq!(a, insert(&spec(InsertMethod::Random), &[]).unwrap());
+        let a = insert(&spec(InsertMethod::Random), &[], &[], 0).unwrap();
+        assert_eq!(a, insert(&spec(InsertMethod::Random), &[], &[], 0).unwrap());
         let mut other = spec(InsertMethod::Random);
         other.seed = 4;
-        assert_ne!(a, insert(&other, &[]).unwrap());
+        assert_ne!(a, insert(&other, &[], &[], 0).unwrap());
     }
 
     #[test]
@@ -240,7 +316,7 @@ mod tests {
             min: 0.03,
             max: 0.06,
         });
-        let p = insert(&s, &[]).unwrap();
+        let p = insert(&s, &[], &[], 0).unwrap();
         let volume: f64 = p.iter().map(|s| 4.0 / 3.0 * PI * s.radius.powi(3)).sum();
         assert!((0.2..0.2 + 4.0 / 3.0 * PI * 0.06f64.powi(3) + 1e-12).contains(&volume));
         assert!(p.iter().all(|s| (0.03..=0.06).contains(&s.radius)));
@@ -253,22 +329,51 @@ mod tests {
             centre: DVec3::splat(0.5),
             radius: 0.3,
         };
-        let p = insert(&spec(InsertMethod::Random), &[wall]).unwrap();
+        let p = insert(&spec(InsertMethod::Random), &[wall], &[], 0).unwrap();
         let mut all = p.clone();
         all.push(wall);
         assert!(no_overlaps(&all));
     }
 
     #[test]
+    fn fills_stay_in_front_of_planes() {
+        // A tilted plane cuts the region: no sphere may reach behind it.
+        let plane = PlaneObstacle {
+            point: DVec3::new(0.5, 0.5, 0.5),
+            normal: DVec3::new(1.0, 1.0, 1.0).normalize(),
+        };
+        for method in [InsertMethod::Lattice, InsertMethod::Random] {
+            let mut s = spec(method);
+            s.count = Some(40);
+            let p = insert(&s, &[], &[plane], 0).unwrap();
+            assert_eq!(p.len(), 40);
+            assert!(p
+                .iter()
+                .all(|s| (s.centre - plane.point).dot(plane.normal) >= s.radius));
+        }
+    }
+
+    #[test]
+    fn a_partial_fill_reports_what_fitted() {
+        let mut s = spec(InsertMethod::Lattice);
+        s.count = Some(1001);
+        let e = insert(&s, &[], &[], 0).unwrap_err();
+        assert_eq!(e.placed.len(), 1000);
+    }
+
+    #[test]
     fn overfull_requests_are_refused_with_advice() {
         let mut s = spec(InsertMethod::Lattice);
         s.count = Some(1001);
-        assert!(insert(&s, &[])
+        assert!(insert(&s, &[], &[], 0)
             .unwrap_err()
-            .0
+            .message
             .contains("1000 lattice sites"));
         let mut s = spec(InsertMethod::Random);
         s.count = Some(2000);
-        assert!(insert(&s, &[]).unwrap_err().0.contains("lattice"));
+        assert!(insert(&s, &[], &[], 0)
+            .unwrap_err()
+            .message
+            .contains("lattice"));
     }
 }

@@ -41,6 +41,93 @@ pub struct Prepared {
     /// The stable-step estimate, and whether the step was chosen automatically.
     pub estimate: timestep::Estimate,
     pub automatic_time_step: bool,
+    /// Insertions still to come during the run, in file order.
+    pub schedule: Vec<ScheduledInsertion>,
+}
+
+/// An `[[insert]]` that happens during the run, once or repeatedly.
+#[derive(Clone, Debug)]
+pub struct ScheduledInsertion {
+    /// Which `[[insert]]` of the file (from 0).
+    pub index: usize,
+    pub spec: format::InsertSpec,
+    pub material: u32,
+    /// Simulated time of the next insertion [s].
+    pub next_time: f64,
+    /// Insertions done so far (varies the random stream of repeats).
+    pub done: u64,
+}
+
+/// What one insertion during the run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InsertionReport {
+    pub index: usize,
+    pub time: f64,
+    pub inserted: usize,
+    /// Set when fewer spheres than asked for fitted: why.
+    pub shortfall: Option<String>,
+}
+
+impl Prepared {
+    /// Simulated time of the next scheduled insertion, if any.
+    pub fn next_insertion_time(&self) -> Option<f64> {
+        self.schedule.iter().map(|s| s.next_time).reduce(f64::min)
+    }
+
+    /// Does every insertion due at the world's current time (to within half a step), placing the
+    /// spheres that fit among the bodies present now.
+    pub fn insert_due(&mut self) -> Vec<InsertionReport> {
+        let world = &mut self.world;
+        let now = world.time + 0.5 * world.time_step;
+        let mut reports = Vec::new();
+        for s in self.schedule.iter_mut().filter(|s| s.next_time <= now) {
+            let existing: Vec<Placed> = (0..world.bodies.len())
+                .map(|i| Placed {
+                    centre: world.bodies.position[i],
+                    radius: world.bodies.bounding_radius[i],
+                })
+                .collect();
+            let planes = plane_obstacles(&world.planes);
+            let (placed, shortfall) = match insert::insert(&s.spec, &existing, &planes, s.done) {
+                Ok(placed) => (placed, None),
+                Err(e) => (e.placed, Some(e.message)),
+            };
+            for p in &placed {
+                world.insert_body(sphere(
+                    p.radius,
+                    s.material,
+                    p.centre,
+                    DVec3::from(s.spec.velocity),
+                ));
+            }
+            reports.push(InsertionReport {
+                index: s.index,
+                time: world.time,
+                inserted: placed.len(),
+                shortfall,
+            });
+            s.done += 1;
+            let until = s.spec.until.unwrap_or(f64::INFINITY);
+            s.next_time = match s.spec.every {
+                Some(every) if s.next_time + every <= until + 0.5 * world.time_step => {
+                    s.next_time + every
+                }
+                _ => f64::INFINITY,
+            };
+        }
+        self.schedule.retain(|s| s.next_time.is_finite());
+        reports
+    }
+}
+
+fn plane_obstacles(planes: &[Plane]) -> Vec<insert::PlaneObstacle> {
+    planes
+        .iter()
+        .map(|p| insert::PlaneObstacle {
+            point: p.point,
+            normal: p.normal,
+        })
+        .collect()
 }
 
 impl Scene {
@@ -149,8 +236,26 @@ impl Scene {
             });
         }
 
-        let bodies = self.bodies()?;
+        let bodies = self.bodies(&plane_obstacles(&planes))?;
         self.check_initial_overlaps(&bodies, &planes)?;
+        let mut schedule = Vec::new();
+        for (index, i) in spec.insertions.iter().enumerate() {
+            if i.time > 0.0 || i.every.is_some() {
+                let key = KeyPath::entry("insert", index).key("material");
+                let first = i.time > 0.0;
+                schedule.push(ScheduledInsertion {
+                    index,
+                    spec: i.clone(),
+                    material: self.material_index(&i.material, key)?,
+                    next_time: if first {
+                        i.time
+                    } else {
+                        i.every.unwrap_or(0.0)
+                    },
+                    done: u64::from(!first),
+                });
+            }
+        }
 
         let mut world = World::new(WorldConfig {
             time_step: 0.0,
@@ -171,10 +276,37 @@ impl Scene {
         for (init, _) in bodies {
             world.add_body(init);
         }
+        world.domain = spec
+            .domain
+            .as_ref()
+            .map(|d| crate::math::Aabb::new(DVec3::from(d.min), DVec3::from(d.max)));
 
         let time_key = KeyPath::table("simulation").key("time_step");
+        // The step must also suit bodies that arrive later: each scheduled insertion's smallest.
+        let b = &world.bodies;
+        let present = (0..b.len()).map(|i| timestep::Candidate {
+            radius: b.bounding_radius[i],
+            mass: b.mass[i],
+            material: b.material[i],
+        });
+        let arriving = schedule.iter().map(|s| {
+            let radius = insert::smallest_radius(&s.spec);
+            let density = world.materials[s.material as usize].density;
+            timestep::Candidate {
+                radius,
+                mass: density * Sphere::new(radius).unit_mass_properties().volume,
+                material: s.material,
+            }
+        });
+        let wall_materials: Vec<u32> = world.planes.iter().map(|p| p.material).collect();
+        let conditions = timestep::Conditions {
+            materials: &world.materials,
+            wall_materials: &wall_materials,
+            law: normal,
+            impact_speed: self.impact_speed(&world),
+        };
         let estimate =
-            timestep::estimate(&world.bodies, &world.materials, normal).ok_or_else(|| {
+            timestep::estimate(present.chain(arriving), &conditions).ok_or_else(|| {
                 self.error(
                 time_key.clone(),
                 "the scene has no particles: nothing to simulate (add [[particle]] or [[insert]])",
@@ -205,12 +337,51 @@ impl Scene {
             output_interval: spec.simulation.output_interval.unwrap_or(duration / 100.0),
             estimate,
             automatic_time_step: automatic,
+            schedule,
         })
+    }
+
+    /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
+    /// fall across the whole height of the scene (bodies and insertion regions, along gravity).
+    fn impact_speed(&self, world: &World) -> f64 {
+        let g = world.gravity.length();
+        let down = if g > 0.0 {
+            world.gravity / g
+        } else {
+            DVec3::ZERO
+        };
+        let b = &world.bodies;
+        let mut speed: f64 = b.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..b.len() {
+            let h = b.position[i].dot(down);
+            low = low.min(h - b.bounding_radius[i]);
+            high = high.max(h + b.bounding_radius[i]);
+        }
+        for i in &self.spec.insertions {
+            speed = speed.max(DVec3::from(i.velocity).length());
+            let (lo, hi) = (DVec3::from(i.region_min), DVec3::from(i.region_max));
+            for corner in 0..8 {
+                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+                let p = DVec3::new(
+                    pick(1, lo.x, hi.x),
+                    pick(2, lo.y, hi.y),
+                    pick(4, lo.z, hi.z),
+                );
+                low = low.min(p.dot(down));
+                high = high.max(p.dot(down));
+            }
+        }
+        let height = if high > low { high - low } else { 0.0 };
+        speed + (2.0 * g * height).sqrt()
     }
 
     /// Every body the scene places, in file order: single particles, then each insertion. Each
     /// comes with the key that placed it, for messages.
-    fn bodies(&self) -> Result<Vec<(BodyInit, KeyPath)>, SceneError> {
+    fn bodies(
+        &self,
+        planes: &[insert::PlaneObstacle],
+    ) -> Result<Vec<(BodyInit, KeyPath)>, SceneError> {
         let mut bodies = Vec::new();
         let mut placed: Vec<Placed> = Vec::new();
         for (n, p) in self.spec.particles.iter().enumerate() {
@@ -232,9 +403,13 @@ impl Scene {
             });
         }
         for (n, spec) in self.spec.insertions.iter().enumerate() {
+            if spec.time > 0.0 {
+                continue; // happens during the run
+            }
             let key = KeyPath::entry("insert", n);
             let material = self.material_index(&spec.material, key.clone().key("material"))?;
-            let new = insert::insert(spec, &placed).map_err(|e| self.error(key.clone(), e.0))?;
+            let new = insert::insert(spec, &placed, planes, 0)
+                .map_err(|e| self.error(key.clone(), e.message))?;
             for p in &new {
                 bodies.push((
                     sphere(p.radius, material, p.centre, DVec3::from(spec.velocity)),

@@ -109,11 +109,29 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     for (n, i) in s.insertions.iter().enumerate() {
         check_insertion(&c, n, i)?;
     }
+    if let Some(d) = &s.domain {
+        let key = |k: &str| KeyPath::table("domain").key(k);
+        c.vector(key("min"), d.min)?;
+        c.vector(key("max"), d.max)?;
+        if (0..3).any(|a| d.max[a] <= d.min[a]) {
+            return Err(scene.error(key("max"), "max must be greater than min on every axis"));
+        }
+    }
     Ok(())
 }
 
 fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneError> {
     let key = |k: &str| KeyPath::entry("insert", n).key(k);
+    c.non_negative(key("time"), i.time, "s")?;
+    if let Some(every) = i.every {
+        c.positive(key("every"), every, "s")?;
+    }
+    if let Some(until) = i.until {
+        c.finite(key("until"), until)?;
+        if until < i.time {
+            return Err(c.scene.error(key("until"), "until must not be before time"));
+        }
+    }
     c.vector(key("region_min"), i.region_min)?;
     c.vector(key("region_max"), i.region_max)?;
     c.vector(key("velocity"), i.velocity)?;
