@@ -4,8 +4,15 @@
 //! axes are the principal axes of inertia, so that the integrator can use Euler's equations with a
 //! diagonal inertia tensor.
 
+mod error;
+pub mod generators;
+mod mass_properties;
+mod polyhedron;
 mod sphere;
 
+pub use error::ShapeError;
+pub use mass_properties::MassProperties;
+pub use polyhedron::{ConvexPolyhedron, Edge, Face, FACE_MERGE_TOLERANCE};
 pub use sphere::Sphere;
 
 use crate::math::DVec3;
