@@ -31,6 +31,8 @@ pub struct Bodies {
     pub material: Vec<MaterialId>,
     /// Radius of a sphere about the centre of mass enclosing the shape (the sphere's radius).
     pub bounding_radius: Vec<f64>,
+    /// Radius of the sphere of equal volume (the sphere's radius): the size in contact laws.
+    pub equivalent_radius: Vec<f64>,
 
     pub position: Vec<DVec3>,
     /// Body frame → world frame.
@@ -69,6 +71,7 @@ impl Bodies {
         shape: ShapeId,
         material: MaterialId,
         bounding_radius: f64,
+        equivalent_radius: f64,
         mass: f64,
         inertia: DVec3,
         init: &BodyInit,
@@ -81,6 +84,7 @@ impl Bodies {
         self.shape.push(shape);
         self.material.push(material);
         self.bounding_radius.push(bounding_radius);
+        self.equivalent_radius.push(equivalent_radius);
         self.position.push(init.position);
         self.orientation.push(orientation);
         self.velocity.push(init.velocity);
@@ -110,6 +114,7 @@ impl Bodies {
         compact(&mut self.shape, keep);
         compact(&mut self.material, keep);
         compact(&mut self.bounding_radius, keep);
+        compact(&mut self.equivalent_radius, keep);
         compact(&mut self.position, keep);
         compact(&mut self.orientation, keep);
         compact(&mut self.velocity, keep);

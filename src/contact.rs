@@ -93,6 +93,7 @@ mod tests {
             normal: DVec3::Z,
             point: DVec3::ZERO,
             overlap: 1e-3,
+            volume: None,
         }
     }
 

@@ -77,6 +77,10 @@ impl PairTable {
         }
         for law in &mut table.laws {
             law.damping = restitution::damping_for_restitution(law.normal, law.restitution);
+            law.damping_volume = restitution::damping_for_restitution(
+                NormalLaw::Linear { stiffness: 1.0 },
+                law.restitution,
+            );
         }
         table
     }
@@ -104,5 +108,6 @@ fn mix(a: &Material, b: &Material, normal: NormalLaw, tangential_stiffness_ratio
         rolling_friction: 0.5 * (a.rolling_friction + b.rolling_friction),
         tangential_stiffness_ratio,
         damping: 0.0,
+        damping_volume: 0.0,
     }
 }

@@ -10,6 +10,8 @@ pub struct Candidate {
     pub radius: f64,
     pub mass: f64,
     pub material: u32,
+    /// For a polyhedron: its volume-equivalent radius and largest face area (see below).
+    pub polyhedron: Option<(f64, f64)>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -56,6 +58,25 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
     };
     for body in bodies {
         let m = &c.materials[body.material as usize];
+        if let Some((radius, area)) = body.polyhedron {
+            // Volume law: a flat contact of area A is a linear spring of stiffness E* A / R*.
+            for (other, mass, r) in std::iter::once((m, 0.5 * body.mass, 0.5 * radius)).chain(
+                c.wall_materials
+                    .iter()
+                    .map(|&w| (&c.materials[w as usize], body.mass, radius)),
+            ) {
+                let stiffness = effective_modulus(m, other) * area / r;
+                let duration = PI * (mass / stiffness).sqrt();
+                consider(duration / STEPS_PER_CONTACT, &|| {
+                    format!(
+                        "1/{STEPS_PER_CONTACT} of the contact duration {duration:.3e} s of a \
+                         polyhedron ('{}', mass {:.3e} kg) pressed face-on against a '{}' face",
+                        m.name, body.mass, other.name
+                    )
+                });
+            }
+            continue;
+        }
         match c.law {
             NormalLaw::Hertz => {
                 let rayleigh = PI * body.radius * (m.density / m.shear_modulus()).sqrt()
@@ -115,11 +136,15 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
 /// Duration of an undamped Hertz impact at speed `v` (Johnson 1985 §11.1; the constant
 /// 2.943275 = Γ(2/5)Γ(1/2)/(5/2 Γ(9/10)) is checked in `tests/physics_hertz_impact.rs`).
 pub fn impact_duration(a: &Material, b: &Material, m: f64, r: f64, v: f64) -> f64 {
-    let e = 1.0
-        / ((1.0 - a.poisson_ratio.powi(2)) / a.youngs_modulus
-            + (1.0 - b.poisson_ratio.powi(2)) / b.youngs_modulus);
+    let e = effective_modulus(a, b);
     let depth = (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4);
     2.943275 * depth / v
+}
+
+/// E* of two materials (Johnson 1985).
+fn effective_modulus(a: &Material, b: &Material) -> f64 {
+    1.0 / ((1.0 - a.poisson_ratio.powi(2)) / a.youngs_modulus
+        + (1.0 - b.poisson_ratio.powi(2)) / b.youngs_modulus)
 }
 
 #[cfg(test)]
@@ -145,6 +170,7 @@ mod tests {
             radius: 0.004,
             mass: 2500.0 * 4.0 / 3.0 * PI * 0.004f64.powi(3),
             material: 0,
+            polyhedron: None,
         };
         let conditions = |v| Conditions {
             materials: &materials,

@@ -123,6 +123,7 @@ impl World {
             shape_id,
             init.material,
             radius,
+            init.shape.equivalent_radius(),
             density * unit.volume,
             density * unit.principal_inertia_per_density,
             &init,
@@ -440,5 +441,6 @@ fn kinematics(
         relative_angular_velocity,
         effective_radius,
         effective_mass,
+        overlap_volume: g.volume,
     }
 }

@@ -39,6 +39,8 @@ pub struct PairLaw {
     /// Dimensionless damping coefficient c (F_d = c √(m* S_n) δ̇), chosen so that a binary
     /// collision rebounds with `restitution` exactly; see [`restitution`].
     pub damping: f64,
+    /// The same for the volume law of polyhedra, which is linear in the depth of a flat contact.
+    pub damping_volume: f64,
 }
 
 /// Relative motion of the two bodies at one contact, in the world frame.
@@ -64,6 +66,17 @@ pub struct Kinematics {
     pub effective_radius: f64,
     /// m* = m_i m_j / (m_i + m_j) [kg] (m_i for a body on a wall).
     pub effective_mass: f64,
+    /// For contacts of polyhedra under the volume law: the overlap volume and contact area.
+    pub overlap_volume: Option<OverlapVolume>,
+}
+
+/// The overlap of two polyhedra (or a polyhedron and a wall).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OverlapVolume {
+    /// V [m³].
+    pub volume: f64,
+    /// Area of the overlap's cross-section normal to the contact normal, |S| [m²].
+    pub area: f64,
 }
 
 /// What a contact remembers between steps while it lasts.

@@ -12,8 +12,11 @@ pub struct TangentialForce {
 }
 
 /// Tangential stiffness k_t: Mindlin (1949) k_t = 8 G* √(R* δ) for Hertz, a fixed ratio of k_n for
-/// the linear law.
+/// the linear law and the volume law of polyhedra.
 pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
+    if k.overlap_volume.is_some() {
+        return law.tangential_stiffness_ratio * normal.stiffness;
+    }
     match law.normal {
         NormalLaw::Linear { .. } => law.tangential_stiffness_ratio * normal.stiffness,
         NormalLaw::Hertz => {

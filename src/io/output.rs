@@ -3,12 +3,15 @@
 //! Layout of the output folder:
 //! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data;
 //! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
+//! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
+//!   pose, with the body's `id` per face (only when the scene has polyhedra);
 //! - `energy.csv`: the energy ledger and contact count at each output time.
 //!
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
 use super::{write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh, PvdSeries};
 use crate::math::{Aabb, DVec3};
+use crate::shape::Shape;
 use crate::world::World;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -31,6 +34,7 @@ pub struct RunOutput {
     dir: PathBuf,
     particles: PvdSeries,
     walls: PvdSeries,
+    polyhedra: PvdSeries,
     energy: CsvSeries,
     frame: usize,
     /// Where and how large to draw the infinite plane walls, fixed at the start.
@@ -51,6 +55,7 @@ impl RunOutput {
             dir: dir.to_path_buf(),
             particles: PvdSeries::new(dir.join("particles.pvd")),
             walls: PvdSeries::new(dir.join("walls.pvd")),
+            polyhedra: PvdSeries::new(dir.join("polyhedra.pvd")),
             energy: CsvSeries::new(dir.join("energy.csv"), &ENERGY_COLUMNS),
             frame: 0,
             wall_centre: 0.5 * (bounds.min + bounds.max),
@@ -82,8 +87,24 @@ impl RunOutput {
         self.particles.add(world.time, &name, 0)?;
 
         let name = format!("walls_{:06}.vtp", self.frame);
-        write_polygons(&self.dir.join(&name), &self.wall_mesh(world), world.time)?;
+        write_polygons(
+            &self.dir.join(&name),
+            &self.wall_mesh(world),
+            "wall",
+            world.time,
+        )?;
         self.walls.add(world.time, &name, 0)?;
+
+        if world.shapes.iter().any(|s| matches!(s, Shape::Convex(_))) {
+            let name = format!("polyhedra_{:06}.vtp", self.frame);
+            write_polygons(
+                &self.dir.join(&name),
+                &polyhedra_mesh(world),
+                "id",
+                world.time,
+            )?;
+            self.polyhedra.add(world.time, &name, 0)?;
+        }
 
         let e = world.energy();
         self.energy.push(&[
@@ -114,4 +135,27 @@ impl RunOutput {
         }
         mesh
     }
+}
+
+/// Faces of every polyhedral body, in world coordinates.
+fn polyhedra_mesh(world: &World) -> PolygonMesh {
+    let b = &world.bodies;
+    let mut mesh = PolygonMesh::default();
+    for i in 0..b.len() {
+        let Shape::Convex(p) = &world.shapes[b.shape[i] as usize] else {
+            continue;
+        };
+        let first = mesh.vertices.len() as u32;
+        mesh.vertices.extend(
+            p.vertices()
+                .iter()
+                .map(|&v| b.position[i] + b.orientation[i] * v),
+        );
+        for face in p.faces() {
+            mesh.polygons
+                .push(face.vertices.iter().map(|&v| first + v as u32).collect());
+            mesh.cell_ids.push(b.id[i] as u32);
+        }
+    }
+    mesh
 }

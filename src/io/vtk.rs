@@ -105,7 +105,12 @@ pub struct PolygonMesh {
 ///
 /// Returns `InvalidInput` if `cell_ids` and `polygons` differ in length or a
 /// polygon refers to a vertex that does not exist.
-pub fn write_polygons(path: &Path, mesh: &PolygonMesh, time: f64) -> io::Result<()> {
+pub fn write_polygons(
+    path: &Path,
+    mesh: &PolygonMesh,
+    id_name: &'static str,
+    time: f64,
+) -> io::Result<()> {
     if mesh.cell_ids.len() != mesh.polygons.len() {
         return Err(invalid_input(format!(
             "polygon mesh has {} polygons but {} cell ids",
@@ -128,7 +133,7 @@ pub fn write_polygons(path: &Path, mesh: &PolygonMesh, time: f64) -> io::Result<
         point_data: Vec::new(),
         point_attributes: "",
         cells: Cells::Polys(&mesh.polygons),
-        cell_data: vec![Array::new("wall", Values::U32(&mesh.cell_ids))],
+        cell_data: vec![Array::new(id_name, Values::U32(&mesh.cell_ids))],
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -833,7 +838,7 @@ mod tests {
         let mesh = wall_mesh();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("walls.vtp");
-        write_polygons(&path, &mesh, 1e-7).unwrap();
+        write_polygons(&path, &mesh, "wall", 1e-7).unwrap();
         let vtp = read_vtp(&path);
         assert_eq!(vtp.piece["NumberOfPoints"], "6");
         assert_eq!(vtp.piece["NumberOfPolys"], "4");
@@ -862,7 +867,7 @@ mod tests {
     fn empty_mesh_is_valid() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("none.vtp");
-        write_polygons(&path, &PolygonMesh::default(), 0.0).unwrap();
+        write_polygons(&path, &PolygonMesh::default(), "wall", 0.0).unwrap();
         let vtp = read_vtp(&path);
         assert_eq!(vtp.piece["NumberOfPolys"], "0");
         assert!(vtp.u32s("CellData/wall").is_empty());
@@ -874,12 +879,12 @@ mod tests {
         let path = dir.path().join("bad.vtp");
         let mut mesh = wall_mesh();
         mesh.cell_ids.pop();
-        let err = write_polygons(&path, &mesh, 0.0).unwrap_err();
+        let err = write_polygons(&path, &mesh, "wall", 0.0).unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
 
         let mut mesh = wall_mesh();
         mesh.polygons[2][1] = 6;
-        let err = write_polygons(&path, &mesh, 0.0).unwrap_err();
+        let err = write_polygons(&path, &mesh, "wall", 0.0).unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
         assert!(!path.exists());
     }

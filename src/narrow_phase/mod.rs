@@ -2,12 +2,24 @@
 //!
 //! One file per pair of shape kinds. Each returns `None` when the bodies do not touch.
 
+mod clip;
+mod convex_convex;
+mod convex_plane;
+mod convex_sphere;
+pub mod separation;
 mod sphere_plane;
 mod sphere_sphere;
+mod vertex_penetration;
 
+pub use clip::{ClipScratch, Plane};
+pub use convex_convex::{convex_convex, VolumeContact};
+pub use convex_plane::convex_plane;
+pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
 pub use sphere_plane::sphere_plane;
 pub use sphere_sphere::sphere_sphere;
+pub use vertex_penetration::{vertex_penetration, PenetratingPoint, PenetrationSet, PointKind};
 
+use crate::contact_law::OverlapVolume;
 use crate::math::DVec3;
 
 /// Where and how deeply two bodies overlap.
@@ -17,6 +29,8 @@ pub struct Geometry {
     pub normal: DVec3,
     /// Contact point: the middle of the overlap [m].
     pub point: DVec3,
-    /// Overlap depth δ > 0 [m].
+    /// Overlap depth δ > 0 [m] (the mean depth V/A for a volume overlap).
     pub overlap: f64,
+    /// Overlap volume and area of polyhedra under the volume law; `None` for point contacts.
+    pub volume: Option<OverlapVolume>,
 }

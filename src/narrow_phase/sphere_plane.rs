@@ -14,6 +14,7 @@ pub fn sphere_plane(x: DVec3, r: f64, point: DVec3, normal: DVec3) -> Option<Geo
         normal,
         point: x - normal * (r - 0.5 * overlap),
         overlap,
+        volume: None,
     })
 }
 

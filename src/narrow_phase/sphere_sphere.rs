@@ -22,6 +22,7 @@ pub fn sphere_sphere(xi: DVec3, ri: f64, xj: DVec3, rj: f64) -> Option<Geometry>
         normal,
         point: xj + normal * (rj - 0.5 * overlap),
         overlap,
+        volume: None,
     })
 }
 

@@ -22,6 +22,62 @@ pub struct SceneFile {
     #[serde(default, rename = "insert")]
     pub insertions: Vec<InsertSpec>,
     pub domain: Option<DomainSpec>,
+    /// Named particle shapes, `[shape.NAME]`, used by `[[particle]]` and `[[insert]]`.
+    #[serde(default, rename = "shape")]
+    pub shapes: std::collections::BTreeMap<String, ShapeSpec>,
+}
+
+/// A named particle shape. Sizes in metres.
+#[derive(Debug, Deserialize, Clone, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    Sphere {
+        radius: f64,
+    },
+    /// A rectangular box with these edge lengths along x, y, z.
+    Box {
+        edges: Vec3,
+    },
+    Tetrahedron {
+        edge: f64,
+    },
+    Octahedron {
+        edge: f64,
+    },
+    Dodecahedron {
+        edge: f64,
+    },
+    Icosahedron {
+        edge: f64,
+    },
+    /// A regular prism: `sides`-gon of this circumradius, extruded along z by `height`.
+    Prism {
+        sides: usize,
+        circumradius: f64,
+        height: f64,
+    },
+    /// The convex hull of these points.
+    Hull {
+        points: Vec<Vec3>,
+    },
+    /// A seeded random convex rock: `vertices` points on an ellipsoid with axes in the ratio
+    /// `elongation`, scaled to the volume of a sphere of diameter `size`.
+    Rock {
+        vertices: usize,
+        size: f64,
+        #[serde(default = "unit_elongation")]
+        elongation: Vec3,
+        #[serde(default)]
+        seed: u64,
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn unit_elongation() -> Vec3 {
+    [1.0, 1.0, 1.0]
 }
 
 /// An open boundary: bodies whose centre leaves this box are removed.
@@ -163,9 +219,15 @@ pub struct PlaneSpec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleSpec {
-    pub radius: f64,
+    /// A sphere of this radius [m] ...
+    pub radius: Option<f64>,
+    /// ... or a shape named in `[shape.NAME]`.
+    pub shape: Option<String>,
     pub material: String,
     pub position: Vec3,
+    /// Rotation of the shape as an axis times an angle [rad].
+    #[serde(default)]
+    pub rotation: Vec3,
     #[serde(default)]
     pub velocity: Vec3,
     #[serde(default)]
@@ -192,6 +254,11 @@ pub struct InsertSpec {
     pub volume_fraction: Option<f64>,
     pub radius: Option<f64>,
     pub radius_distribution: Option<RadiusDistribution>,
+    /// Insert bodies of a shape named in `[shape.NAME]` instead of spheres.
+    pub shape: Option<String>,
+    /// Give each inserted body a random orientation (uniform over rotations).
+    #[serde(default = "yes")]
+    pub random_orientation: bool,
     #[serde(default)]
     pub seed: u64,
     #[serde(default)]

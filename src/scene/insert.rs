@@ -31,10 +31,20 @@ pub struct PlaneObstacle {
 /// Random sequential addition tries this many places per sphere before giving up.
 const ATTEMPTS_PER_SPHERE: usize = 2000;
 
+/// For an insertion of a named shape: the radius of its bounding sphere (what must not overlap)
+/// and its volume (what counts towards a volume fraction).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSize {
+    pub bounding_radius: f64,
+    pub volume: f64,
+}
+
 /// Places the spheres one insertion asks for, avoiding the spheres in `existing` and the planes.
-/// `repetition` varies the random stream for repeated insertions of the same spec.
+/// For a shape, the spheres are its bounding spheres, so bodies never overlap whatever their
+/// orientation. `repetition` varies the random stream for repeated insertions of the same spec.
 pub fn insert(
     spec: &InsertSpec,
+    shape: Option<ShapeSize>,
     existing: &[Placed],
     planes: &[PlaneObstacle],
     repetition: u64,
@@ -42,7 +52,7 @@ pub fn insert(
     let min = DVec3::from(spec.region_min);
     let max = DVec3::from(spec.region_max);
     let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
-    let radii = draw_radii(spec, (max - min).element_product(), &mut rng);
+    let radii = draw_radii(spec, shape, (max - min).element_product(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let mut obstacles = Obstacles::new(existing, planes, r_max);
     match spec.method {
@@ -106,18 +116,29 @@ impl<'a> Obstacles<'a> {
 }
 
 /// The smallest radius an insertion can produce.
-pub fn smallest_radius(spec: &InsertSpec) -> f64 {
+pub fn smallest_radius(spec: &InsertSpec, shape: Option<ShapeSize>) -> f64 {
+    if let Some(shape) = shape {
+        return shape.bounding_radius;
+    }
     match (spec.radius, spec.radius_distribution) {
         (Some(r), _) => r,
         (None, Some(RadiusDistribution::Uniform { min, .. }))
         | (None, Some(RadiusDistribution::Normal { min, .. })) => min,
-        (None, None) => unreachable!("validated: radius or radius_distribution is given"),
+        (None, None) => unreachable!("validated: a radius, distribution or shape is given"),
     }
 }
 
 /// Radii for the insertion: `count` of them, or as many as make up `volume_fraction` of the region.
-fn draw_radii(spec: &InsertSpec, region_volume: f64, rng: &mut SplitMix64) -> Vec<f64> {
+fn draw_radii(
+    spec: &InsertSpec,
+    shape: Option<ShapeSize>,
+    region_volume: f64,
+    rng: &mut SplitMix64,
+) -> Vec<f64> {
     let mut draw = || -> f64 {
+        if let Some(shape) = shape {
+            return shape.bounding_radius;
+        }
         match (spec.radius, spec.radius_distribution) {
             (Some(r), _) => r,
             (None, Some(RadiusDistribution::Uniform { min, max })) => rng.uniform(min, max),
@@ -135,8 +156,12 @@ fn draw_radii(spec: &InsertSpec, region_volume: f64, rng: &mut SplitMix64) -> Ve
                     break r;
                 }
             },
-            (None, None) => unreachable!("validated: radius or radius_distribution is given"),
+            (None, None) => unreachable!("validated: a radius, distribution or shape is given"),
         }
+    };
+    let volume_of = |r: f64| match shape {
+        Some(shape) => shape.volume,
+        None => 4.0 / 3.0 * PI * r.powi(3),
     };
     match (spec.count, spec.volume_fraction) {
         (Some(n), _) => (0..n).map(|_| draw()).collect(),
@@ -146,7 +171,7 @@ fn draw_radii(spec: &InsertSpec, region_volume: f64, rng: &mut SplitMix64) -> Ve
             let mut volume = 0.0;
             while volume < target {
                 let r = draw();
-                volume += 4.0 / 3.0 * PI * r.powi(3);
+                volume += volume_of(r);
                 radii.push(r);
             }
             radii
@@ -270,6 +295,8 @@ mod tests {
             time: 0.0,
             every: None,
             until: None,
+            shape: None,
+            random_orientation: true,
         }
     }
 
@@ -291,7 +318,7 @@ mod tests {
     #[test]
     fn lattice_and_random_fills_are_inside_and_do_not_overlap() {
         for method in [InsertMethod::Lattice, InsertMethod::Random] {
-            let p = insert(&spec(method), &[], &[], 0).unwrap();
+            let p = insert(&spec(method), None, &[], &[], 0).unwrap();
             assert_eq!(p.len(), 100);
             assert!(no_overlaps(&p) && inside(&p), "{method:?}");
         }
@@ -299,11 +326,14 @@ mod tests {
 
     #[test]
     fn random_fill_is_reproducible_and_seed_dependent() {
-        let a = insert(&spec(InsertMethod::Random), &[], &[], 0).unwrap();
-        assert_eq!(a, insert(&spec(InsertMethod::Random), &[], &[], 0).unwrap());
+        let a = insert(&spec(InsertMethod::Random), None, &[], &[], 0).unwrap();
+        assert_eq!(
+            a,
+            insert(&spec(InsertMethod::Random), None, &[], &[], 0).unwrap()
+        );
         let mut other = spec(InsertMethod::Random);
         other.seed = 4;
-        assert_ne!(a, insert(&other, &[], &[], 0).unwrap());
+        assert_ne!(a, insert(&other, None, &[], &[], 0).unwrap());
     }
 
     #[test]
@@ -316,7 +346,7 @@ mod tests {
             min: 0.03,
             max: 0.06,
         });
-        let p = insert(&s, &[], &[], 0).unwrap();
+        let p = insert(&s, None, &[], &[], 0).unwrap();
         let volume: f64 = p.iter().map(|s| 4.0 / 3.0 * PI * s.radius.powi(3)).sum();
         assert!((0.2..0.2 + 4.0 / 3.0 * PI * 0.06f64.powi(3) + 1e-12).contains(&volume));
         assert!(p.iter().all(|s| (0.03..=0.06).contains(&s.radius)));
@@ -329,7 +359,7 @@ mod tests {
             centre: DVec3::splat(0.5),
             radius: 0.3,
         };
-        let p = insert(&spec(InsertMethod::Random), &[wall], &[], 0).unwrap();
+        let p = insert(&spec(InsertMethod::Random), None, &[wall], &[], 0).unwrap();
         let mut all = p.clone();
         all.push(wall);
         assert!(no_overlaps(&all));
@@ -345,7 +375,7 @@ mod tests {
         for method in [InsertMethod::Lattice, InsertMethod::Random] {
             let mut s = spec(method);
             s.count = Some(40);
-            let p = insert(&s, &[], &[plane], 0).unwrap();
+            let p = insert(&s, None, &[], &[plane], 0).unwrap();
             assert_eq!(p.len(), 40);
             assert!(p
                 .iter()
@@ -357,7 +387,7 @@ mod tests {
     fn a_partial_fill_reports_what_fitted() {
         let mut s = spec(InsertMethod::Lattice);
         s.count = Some(1001);
-        let e = insert(&s, &[], &[], 0).unwrap_err();
+        let e = insert(&s, None, &[], &[], 0).unwrap_err();
         assert_eq!(e.placed.len(), 1000);
     }
 
@@ -365,13 +395,13 @@ mod tests {
     fn overfull_requests_are_refused_with_advice() {
         let mut s = spec(InsertMethod::Lattice);
         s.count = Some(1001);
-        assert!(insert(&s, &[], &[], 0)
+        assert!(insert(&s, None, &[], &[], 0)
             .unwrap_err()
             .message
             .contains("1000 lattice sites"));
         let mut s = spec(InsertMethod::Random);
         s.count = Some(2000);
-        assert!(insert(&s, &[], &[], 0)
+        assert!(insert(&s, None, &[], &[], 0)
             .unwrap_err()
             .message
             .contains("lattice"));

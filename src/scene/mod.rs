@@ -9,6 +9,7 @@
 mod error;
 pub mod format;
 pub mod insert;
+pub mod shapes;
 mod validate;
 
 pub use error::{KeyPath, SceneError};
@@ -23,6 +24,7 @@ use crate::wall::Plane;
 use crate::world::{World, WorldConfig};
 use format::{NormalModel, SceneFile, TimeStep};
 use insert::Placed;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A scene file read and checked for form, not yet built.
@@ -52,6 +54,8 @@ pub struct ScheduledInsertion {
     pub index: usize,
     pub spec: format::InsertSpec,
     pub material: u32,
+    /// The shape inserted, or `None` for spheres of the spec's radius or distribution.
+    pub shape: Option<shapes::BuiltShape>,
     /// Simulated time of the next insertion [s].
     pub next_time: f64,
     /// Insertions done so far (varies the random stream of repeats).
@@ -88,16 +92,20 @@ impl Prepared {
                 })
                 .collect();
             let planes = plane_obstacles(&world.planes);
-            let (placed, shortfall) = match insert::insert(&s.spec, &existing, &planes, s.done) {
-                Ok(placed) => (placed, None),
-                Err(e) => (e.placed, Some(e.message)),
-            };
+            let size = s.shape.as_ref().map(shape_size);
+            let (placed, shortfall) =
+                match insert::insert(&s.spec, size, &existing, &planes, s.done) {
+                    Ok(placed) => (placed, None),
+                    Err(e) => (e.placed, Some(e.message)),
+                };
+            let mut orientations = orientation_stream(&s.spec, s.done);
             for p in &placed {
-                world.insert_body(sphere(
-                    p.radius,
+                world.insert_body(inserted_body(
+                    &s.spec,
+                    s.shape.as_ref(),
                     s.material,
-                    p.centre,
-                    DVec3::from(s.spec.velocity),
+                    p,
+                    &mut orientations,
                 ));
             }
             reports.push(InsertionReport {
@@ -117,6 +125,51 @@ impl Prepared {
         }
         self.schedule.retain(|s| s.next_time.is_finite());
         reports
+    }
+}
+
+fn shape_size(shape: &shapes::BuiltShape) -> insert::ShapeSize {
+    insert::ShapeSize {
+        bounding_radius: shape.shape.bounding_radius(),
+        volume: shape.shape.unit_mass_properties().volume,
+    }
+}
+
+/// The random orientations of one insertion: its own stream, so that turning random orientation
+/// on or off does not move the bodies.
+fn orientation_stream(spec: &format::InsertSpec, repetition: u64) -> crate::rng::SplitMix64 {
+    crate::rng::SplitMix64::new(
+        spec.seed ^ 0x0123_4567_89AB_CDEF ^ repetition.wrapping_mul(0x9E37_79B9_7F4A_7C15),
+    )
+}
+
+/// The body an insertion puts at a placed bounding sphere.
+fn inserted_body(
+    spec: &format::InsertSpec,
+    shape: Option<&shapes::BuiltShape>,
+    material: u32,
+    placed: &Placed,
+    orientations: &mut crate::rng::SplitMix64,
+) -> BodyInit {
+    let velocity = DVec3::from(spec.velocity);
+    match shape {
+        None => sphere(placed.radius, material, placed.centre, velocity),
+        Some(built) => {
+            let rotation = if spec.random_orientation {
+                shapes::random_rotation(orientations)
+            } else {
+                DQuat::IDENTITY
+            };
+            BodyInit {
+                shape: built.shape.clone(),
+                material,
+                // The bounding sphere is centred on the centre of mass.
+                position: placed.centre,
+                orientation: (rotation * built.principal).normalize(),
+                velocity,
+                angular_velocity: DVec3::ZERO,
+            }
+        }
     }
 }
 
@@ -236,7 +289,8 @@ impl Scene {
             });
         }
 
-        let bodies = self.bodies(&plane_obstacles(&planes))?;
+        let shapes = shapes::build(self)?;
+        let bodies = self.bodies(&shapes, &plane_obstacles(&planes))?;
         self.check_initial_overlaps(&bodies, &planes)?;
         let mut schedule = Vec::new();
         for (index, i) in spec.insertions.iter().enumerate() {
@@ -247,6 +301,7 @@ impl Scene {
                     index,
                     spec: i.clone(),
                     material: self.material_index(&i.material, key)?,
+                    shape: self.shape_of(&shapes, i.shape.as_deref(), index)?,
                     next_time: if first {
                         i.time
                     } else {
@@ -284,19 +339,24 @@ impl Scene {
         let time_key = KeyPath::table("simulation").key("time_step");
         // The step must also suit bodies that arrive later: each scheduled insertion's smallest.
         let b = &world.bodies;
-        let present = (0..b.len()).map(|i| timestep::Candidate {
-            radius: b.bounding_radius[i],
-            mass: b.mass[i],
-            material: b.material[i],
-        });
+        let candidate = |shape: &Shape, mass: f64, material: u32| timestep::Candidate {
+            radius: shape.bounding_radius(),
+            mass,
+            material,
+            polyhedron: shape
+                .largest_face_area()
+                .map(|area| (shape.equivalent_radius(), area)),
+        };
+        let present = (0..b.len())
+            .map(|i| candidate(&world.shapes[b.shape[i] as usize], b.mass[i], b.material[i]));
         let arriving = schedule.iter().map(|s| {
-            let radius = insert::smallest_radius(&s.spec);
             let density = world.materials[s.material as usize].density;
-            timestep::Candidate {
-                radius,
-                mass: density * Sphere::new(radius).unit_mass_properties().volume,
-                material: s.material,
-            }
+            let shape = match &s.shape {
+                Some(built) => built.shape.clone(),
+                None => Shape::Sphere(Sphere::new(insert::smallest_radius(&s.spec, None))),
+            };
+            let mass = density * shape.unit_mass_properties().volume;
+            candidate(&shape, mass, s.material)
         });
         let wall_materials: Vec<u32> = world.planes.iter().map(|p| p.material).collect();
         let conditions = timestep::Conditions {
@@ -380,6 +440,7 @@ impl Scene {
     /// comes with the key that placed it, for messages.
     fn bodies(
         &self,
+        shapes: &BTreeMap<String, shapes::BuiltShape>,
         planes: &[insert::PlaneObstacle],
     ) -> Result<Vec<(BodyInit, KeyPath)>, SceneError> {
         let mut bodies = Vec::new();
@@ -387,20 +448,36 @@ impl Scene {
         for (n, p) in self.spec.particles.iter().enumerate() {
             let key = KeyPath::entry("particle", n);
             let material = self.material_index(&p.material, key.clone().key("material"))?;
-            bodies.push((
-                sphere(
-                    p.radius,
-                    material,
-                    DVec3::from(p.position),
-                    DVec3::from(p.velocity),
-                )
-                .with_spin(DVec3::from(p.angular_velocity)),
-                key,
-            ));
+            let position = DVec3::from(p.position);
+            let velocity = DVec3::from(p.velocity);
+            let mut body = match (p.radius, &p.shape) {
+                (Some(radius), None) => sphere(radius, material, position, velocity),
+                (None, Some(name)) => {
+                    let built = self.named_shape(shapes, name, key.clone().key("shape"))?;
+                    let rotation = DQuat::from_scaled_axis(DVec3::from(p.rotation));
+                    let (position, orientation) = built.pose(position, rotation);
+                    BodyInit {
+                        shape: built.shape.clone(),
+                        material,
+                        position,
+                        orientation,
+                        velocity,
+                        angular_velocity: DVec3::ZERO,
+                    }
+                }
+                _ => {
+                    return Err(self.error(
+                        key.key("radius"),
+                        "give exactly one of `radius` (a sphere) and `shape` (a [shape.NAME])",
+                    ))
+                }
+            };
+            body.angular_velocity = DVec3::from(p.angular_velocity);
             placed.push(Placed {
-                centre: DVec3::from(p.position),
-                radius: p.radius,
+                centre: body.position,
+                radius: body.shape.bounding_radius(),
             });
+            bodies.push((body, key));
         }
         for (n, spec) in self.spec.insertions.iter().enumerate() {
             if spec.time > 0.0 {
@@ -408,17 +485,47 @@ impl Scene {
             }
             let key = KeyPath::entry("insert", n);
             let material = self.material_index(&spec.material, key.clone().key("material"))?;
-            let new = insert::insert(spec, &placed, planes, 0)
+            let shape = self.shape_of(shapes, spec.shape.as_deref(), n)?;
+            let size = shape.as_ref().map(shape_size);
+            let new = insert::insert(spec, size, &placed, planes, 0)
                 .map_err(|e| self.error(key.clone(), e.message))?;
+            let mut orientations = orientation_stream(spec, 0);
             for p in &new {
-                bodies.push((
-                    sphere(p.radius, material, p.centre, DVec3::from(spec.velocity)),
-                    key.clone(),
-                ));
+                let body = inserted_body(spec, shape.as_ref(), material, p, &mut orientations);
+                bodies.push((body, key.clone()));
             }
             placed.extend(new);
         }
         Ok(bodies)
+    }
+
+    fn named_shape<'s>(
+        &self,
+        shapes: &'s BTreeMap<String, shapes::BuiltShape>,
+        name: &str,
+        key: KeyPath,
+    ) -> Result<&'s shapes::BuiltShape, SceneError> {
+        shapes.get(name).ok_or_else(|| {
+            let known: Vec<&String> = shapes.keys().collect();
+            self.error(
+                key,
+                format!("no shape named '{name}'; the scene defines {known:?} ([shape.NAME])"),
+            )
+        })
+    }
+
+    /// The shape an insertion places, if it names one.
+    fn shape_of(
+        &self,
+        shapes: &BTreeMap<String, shapes::BuiltShape>,
+        name: Option<&str>,
+        index: usize,
+    ) -> Result<Option<shapes::BuiltShape>, SceneError> {
+        name.map(|name| {
+            self.named_shape(shapes, name, KeyPath::entry("insert", index).key("shape"))
+                .cloned()
+        })
+        .transpose()
     }
 
     /// Refuses a start in which bodies overlap each other or a wall by more than the tolerance:
@@ -456,7 +563,7 @@ impl Scene {
         }
         for (b, key) in bodies {
             for (n, plane) in planes.iter().enumerate() {
-                let overlap = radius(b) - (b.position - plane.point).dot(plane.normal);
+                let overlap = depth_behind_plane(b, plane);
                 if overlap > tolerance * radius(b) {
                     return Err(self.error(
                         key.clone(),
@@ -474,6 +581,19 @@ impl Scene {
     }
 }
 
+/// How far a body reaches behind a plane (negative: the gap in front of it).
+fn depth_behind_plane(b: &BodyInit, plane: &Plane) -> f64 {
+    let height = |x: DVec3| (x - plane.point).dot(plane.normal);
+    match &b.shape {
+        Shape::Sphere(s) => s.radius - height(b.position),
+        Shape::Convex(p) => -p
+            .vertices()
+            .iter()
+            .map(|&v| height(b.position + b.orientation * v))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
 fn sphere(radius: f64, material: u32, position: DVec3, velocity: DVec3) -> BodyInit {
     BodyInit {
         shape: Shape::Sphere(Sphere::new(radius)),
@@ -482,12 +602,5 @@ fn sphere(radius: f64, material: u32, position: DVec3, velocity: DVec3) -> BodyI
         orientation: DQuat::IDENTITY,
         velocity,
         angular_velocity: DVec3::ZERO,
-    }
-}
-
-impl BodyInit {
-    fn with_spin(mut self, angular_velocity: DVec3) -> Self {
-        self.angular_velocity = angular_velocity;
-        self
     }
 }

@@ -101,7 +101,10 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     }
     for (n, p) in s.particles.iter().enumerate() {
         let key = |k: &str| KeyPath::entry("particle", n).key(k);
-        c.positive(key("radius"), p.radius, "m")?;
+        if let Some(radius) = p.radius {
+            c.positive(key("radius"), radius, "m")?;
+        }
+        c.vector(key("rotation"), p.rotation)?;
         c.vector(key("position"), p.position)?;
         c.vector(key("velocity"), p.velocity)?;
         c.vector(key("angular_velocity"), p.angular_velocity)?;
@@ -153,15 +156,31 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
         _ => {}
     }
     let (r_min, r_max) = match (i.radius, i.radius_distribution) {
-        (Some(r), None) => {
+        (None, None) if i.shape.is_some() => {
+            // Sized by the shape: the sphere of equal volume for how many fit, the bounding
+            // sphere for the narrowest region. A shape that is unknown or fails to build is
+            // reported where shapes are built, with the list of names.
+            let spec = i
+                .shape
+                .as_ref()
+                .and_then(|name| c.scene.spec.shapes.get(name));
+            match spec.map(super::shapes::build_one) {
+                Some(Ok(built)) => (
+                    built.shape.equivalent_radius(),
+                    built.shape.bounding_radius(),
+                ),
+                _ => return Ok(()),
+            }
+        }
+        (Some(r), None) if i.shape.is_none() => {
             c.positive(key("radius"), r, "m")?;
             (r, r)
         }
-        (None, Some(d)) => check_distribution(c, n, d)?,
+        (None, Some(d)) if i.shape.is_none() => check_distribution(c, n, d)?,
         _ => {
             return Err(c.scene.error(
                 key("radius"),
-                "give exactly one of `radius` and `radius_distribution`",
+                "give exactly one of `radius`, `radius_distribution` and `shape`",
             ))
         }
     };

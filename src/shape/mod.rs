@@ -16,6 +16,7 @@ pub use polyhedron::{ConvexPolyhedron, Edge, Face, FACE_MERGE_TOLERANCE};
 pub use sphere::Sphere;
 
 use crate::math::DVec3;
+use std::sync::Arc;
 
 /// Mass properties of a shape of unit density, in its principal body frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,15 +28,30 @@ pub struct UnitMassProperties {
 }
 
 /// The shape of a body.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Shape {
     Sphere(Sphere),
+    /// Shared: many bodies usually have the same polyhedron.
+    Convex(Arc<ConvexPolyhedron>),
+}
+
+impl PartialEq for Shape {
+    /// Polyhedra are equal when they are the same shared shape: comparing vertex lists would
+    /// cost more than it saves.
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Shape::Sphere(a), Shape::Sphere(b)) => a == b,
+            (Shape::Convex(a), Shape::Convex(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
 }
 
 impl Shape {
     pub fn unit_mass_properties(&self) -> UnitMassProperties {
         match self {
             Shape::Sphere(s) => s.unit_mass_properties(),
+            Shape::Convex(p) => p.unit_mass_properties(),
         }
     }
 
@@ -43,6 +59,37 @@ impl Shape {
     pub fn bounding_radius(&self) -> f64 {
         match self {
             Shape::Sphere(s) => s.radius,
+            Shape::Convex(p) => p.bounding_radius(),
+        }
+    }
+
+    /// Area of the largest face of a polyhedron (`None` for a sphere): the largest contact area
+    /// a flat contact can have, which sets the stiffest contact under the volume law.
+    pub fn largest_face_area(&self) -> Option<f64> {
+        let Shape::Convex(p) = self else { return None };
+        let v = p.vertices();
+        p.faces()
+            .iter()
+            .map(|f| {
+                let first = v[f.vertices[0]];
+                let twice: DVec3 = f
+                    .vertices
+                    .windows(2)
+                    .map(|w| (v[w[0]] - first).cross(v[w[1]] - first))
+                    .sum();
+                0.5 * twice.length()
+            })
+            .reduce(f64::max)
+    }
+
+    /// Radius of the sphere of equal volume: the size that enters contact laws (R*) and the
+    /// time-step estimate for a non-spherical body.
+    pub fn equivalent_radius(&self) -> f64 {
+        match self {
+            Shape::Sphere(s) => s.radius,
+            Shape::Convex(p) => {
+                (3.0 * p.unit_mass_properties().volume / (4.0 * std::f64::consts::PI)).cbrt()
+            }
         }
     }
 }
