@@ -8,7 +8,7 @@ use crate::energy::EnergyReport;
 use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
-use crate::narrow_phase::{self, Geometry};
+use crate::narrow_phase::{self, ClipScratch, Geometry};
 use crate::shape::Shape;
 use crate::wall::Plane;
 use rayon::prelude::*;
@@ -285,13 +285,23 @@ impl World {
 
     fn detect_contacts(&mut self) {
         let bodies = &self.bodies;
-        let (x, r) = (&bodies.position, &bodies.bounding_radius);
+        let shapes = &self.shapes;
+        let posed = |i: usize| narrow_phase::Posed {
+            shape: &shapes[bodies.shape[i] as usize],
+            position: bodies.position[i],
+            orientation: bodies.orientation[i],
+        };
         self.found.clear();
-        self.found
-            .par_extend(self.pairs.par_iter().filter_map(|&(i, j)| {
-                let (a, b) = (i as usize, j as usize);
-                narrow_phase::sphere_sphere(x[a], r[a], x[b], r[b]).map(|g| (i, j, g))
-            }));
+        self.found.par_extend(
+            self.pairs
+                .par_iter()
+                .with_min_len(256)
+                .map_init(ClipScratch::default, |scratch, &(i, j)| {
+                    narrow_phase::body_body(posed(i as usize), posed(j as usize), scratch)
+                        .map(|g| (i, j, g))
+                })
+                .flatten(),
+        );
         self.dissipated += self.contacts.update(&self.found);
 
         let planes = &self.planes;
@@ -302,7 +312,7 @@ impl World {
                 .with_min_len(512)
                 .flat_map_iter(|a| {
                     planes.iter().enumerate().filter_map(move |(p, plane)| {
-                        narrow_phase::sphere_plane(x[a], r[a], plane.point, plane.normal)
+                        narrow_phase::body_plane(posed(a), plane.point, plane.normal)
                             .map(|g| (a as u32, p as u32, g))
                     })
                 }),

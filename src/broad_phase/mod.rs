@@ -137,8 +137,15 @@ mod tests {
             steps in prop::collection::vec(prop::collection::vec(motion(), 0..80), 1..12),
         ) {
             let mut bodies = initial;
-            let mut methods: Vec<Box<dyn BroadPhase>> =
-                vec![Box::new(SweepAndPrune::default()), Box::new(CellGrid::default())];
+            let mut methods: Vec<Box<dyn BroadPhase>> = vec![
+                Box::new(SweepAndPrune::default()),
+                Box::new(CellGrid::default()),
+                // Many small regions (boxes up to 10 wide span up to 20 per axis) and regions
+                // of a few boxes: frequent region changes, pairs shared by several regions.
+                Box::new(SweepAndPrune::with_region_side(0.5)),
+                Box::new(SweepAndPrune::with_region_side(1.75)),
+                Box::new(SweepAndPrune::with_bodies_per_region(6)),
+            ];
             let (mut expected, mut found) = (Vec::new(), Vec::new());
             for (call, step) in std::iter::once(&Vec::new()).chain(&steps).enumerate() {
                 for m in step {
@@ -156,9 +163,9 @@ mod tests {
                 }
                 let boxes = grid_boxes(&bodies);
                 BruteForce.find_pairs(&boxes, &mut expected);
-                for method in &mut methods {
+                for (k, method) in methods.iter_mut().enumerate() {
                     method.find_pairs(&boxes, &mut found);
-                    prop_assert_eq!(&found, &expected, "{} at call {}", method.name(), call);
+                    prop_assert_eq!(&found, &expected, "{} #{} at call {}", method.name(), k, call);
                 }
             }
         }

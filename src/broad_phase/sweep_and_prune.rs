@@ -1,19 +1,44 @@
 use super::{BroadPhase, CellGrid, Pair};
 use crate::math::{Aabb, DVec3};
 
+mod region;
+
+use region::{Endpoint, Partner, Region};
+
 /// Sweep and prune with insertion-sorted endpoint lists: the Linked Linear List (LLL) of
 /// Schinner (1999, Granular Matter 2:35) as used for DEM by Muth, Eberhard & Luding, and the
-/// "sweep and prune" of I-COLLIDE (Cohen, Lin, Manocha & Ponamgi 1995).
+/// "sweep and prune" of I-COLLIDE (Cohen, Lin, Manocha & Ponamgi 1995), on a uniform grid of
+/// regions each with its own lists ("multi-SAP": Tracy, Dreiling & Heins 2009, IEEE VR; Bullet's
+/// `btMultiSapBroadphase`).
 ///
-/// Every box is projected on x, y and z. For each axis a list of all begin points (`min`) and end
-/// points (`max`) is kept sorted. Between calls bodies move little, so the old order is almost
-/// right: it is repaired by insertion sort, and every adjacent swap of a begin and an end of two
-/// different bodies is an *event* — a begin moving below another body's end means the two
-/// intervals start overlapping on that axis; an end moving below another body's begin means they
-/// stop. A call costs O(n + swaps). Only the first call, a change in the number of bodies (indices
-/// may have been renumbered) or a call whose swaps would cost more than a fresh start (e.g. every
-/// body teleported; then the next calls rebuild directly for a while, with exponential backoff)
-/// pays the full sort and sweep, O(n log n + overlaps along the best axis).
+/// **The LLL.** Every box is projected on x, y and z. For each axis a list of begin points
+/// (`min`) and end points (`max`) is kept sorted. Between calls bodies move little, so the old
+/// order is almost right: it is repaired by insertion sort, and every adjacent swap of a begin and
+/// an end of two different bodies is an *event* — a begin moving below another body's end means
+/// the two intervals start overlapping on that axis; an end moving below another body's begin
+/// means they stop.
+///
+/// **Why regions.** In 3-D, at a fixed density, one list per axis over the whole domain holds
+/// about `n^(2/3)` endpoints per unit length, so each moving endpoint makes `O(n^(2/3))` swaps and
+/// a call costs `O(n^(5/3))`, with lists far larger than the caches besides. Here space is cut
+/// into a uniform grid of box-shaped *regions*, chosen at a rebuild to hold about
+/// `bodies_per_region` boxes each (default [`DEFAULT_BODIES_PER_REGION`]) and never narrower than
+/// the largest box, so most boxes lie in one region and none in more than two per axis (boxes
+/// that grow later may span more; that stays correct). Each region keeps the three LLL lists of
+/// the boxes overlapping it (closed boxes against the region's cells, the outer regions reaching
+/// to infinity), short and cache resident, so a call costs `O(n)` at a fixed density.
+///
+/// **A call** (after the first): each box's range of regions is recomputed (with a hysteresis of
+/// 1/16 region, so that boxes vibrating across a boundary do not leave and re-enter at every
+/// call). Then region by region — regions are independent, and each is touched once while it is
+/// in cache: (1) a box that left the region is *removed*, with the lists still in the previous
+/// call's state: its pairs there leave, and its endpoints stay as inert "dead" entries until they
+/// are an eighth of the lists, when one pass sweeps them out; (2) the new coordinates are written
+/// into the lists and the lists are repaired by insertion sort, with their events; (3) a box that
+/// entered the region is *inserted*: its pairs with the members are found by testing their new
+/// boxes, and its endpoints are merged into the now sorted lists. A removal or insertion costs a
+/// pass over the region's members; boxes cross region boundaries rarely (a fraction
+/// `motion / region side` of them per call), so this is a small part of the cost.
 ///
 /// **Tie rule.** The lists are ordered by `(value, kind)` with a begin before an end at equal
 /// values. Then "begin of `a` precedes end of `b`" is exactly `a.min <= b.max`, so two intervals
@@ -23,79 +48,234 @@ use crate::math::{Aabb, DVec3};
 /// body's own begin never passes its own end (`min <= max`). `-0.0` is stored as `0.0` so the list
 /// order agrees with `<=`.
 ///
-/// **Count invariant.** Define a pair's overlap on an axis by *list positions* (begin of each
-/// precedes the end of the other), not by values. Each adjacent begin/end swap flips that for
-/// exactly one pair on one axis and nothing else, so at every moment — also in the middle of a
-/// sort, with other axes not yet repaired — the candidate set is exactly the pairs whose count of
-/// positionally overlapping axes is 3; once all three lists are sorted, positions agree with
-/// values and the set is exactly the overlapping boxes. The count is not stored per pair: a
-/// hash map of every pair overlapping on at least one axis holds O(n^(5/3)) entries in a dense 3-D
-/// packing (some 10^8 at n = 10^5), against O(n) candidates. Instead each body keeps its begin and
-/// end *positions* on every axis (`rank`), and an event on one axis reads the pair's overlap on
-/// the other two axes from them in O(1) (as Bullet's `btAxisSweep3` does): the pair enters the
-/// set when its count goes 2 → 3 and leaves when it goes 3 → 2.
+/// **Count invariant.** In one region, define a pair's overlap on an axis by *list positions*
+/// (begin of each precedes the end of the other), not by values. Each adjacent begin/end swap
+/// flips that for exactly one pair on one axis and nothing else, so at every moment — also in the
+/// middle of a sort, with other axes not yet repaired — the pairs overlapping in the region are
+/// exactly those whose count of positionally overlapping axes is 3; once all three lists are
+/// sorted, positions agree with values. That count is not stored per pair (a map of every pair
+/// overlapping on at least one axis would be far larger than the candidate set): each member keeps
+/// its begin and end *positions* on every axis (`rank`), and an event on one axis reads the pair's
+/// overlap on the other two axes from them in O(1) (as Bullet's `btAxisSweep3` does): the pair
+/// enters the region when its count goes 2 → 3 and leaves when it goes 3 → 2. A removal (in the
+/// old state) makes every pair the box has in the region leave it, an insertion (in the new,
+/// sorted state, where positions agree with values) makes every pair it has there enter.
 ///
-/// **Candidate set.** Per body `i`, the sorted list of its partners `j > i`. Insertion and removal
-/// are a binary search and a short shift in a list of a few entries, and the output, sorted
-/// ascending as the trait requires, is a plain concatenation — O(n + pairs), no global sort.
+/// **One report per pair.** Two boxes may overlap in several regions (when both straddle a
+/// boundary). The candidate set keeps, per pair, the *number of regions* in which it overlaps,
+/// and a pair is a candidate while that number is positive. This is exact: two closed boxes that
+/// overlap share a point, hence the region of that point (the region index of a coordinate is
+/// monotone in it), and in every region they share, sorted lists see them overlap. The
+/// alternative rule, "only the region holding the lower corner of the intersection reports the
+/// pair", needs no count but ties a pair's owner to coordinates that change without any list
+/// event in the regions concerned (the corner moves to a neighbouring region when one box's
+/// `min` crosses the boundary, while both boxes stay in both regions), so every boundary crossing
+/// would have to re-examine the box's pairs in every region; the counts make each region an
+/// independent LLL whose events are simply added up. The rule is used once, at a rebuild, where
+/// the sweep of each region reports only the pairs whose first shared region it is, with their
+/// count of shared regions computed from the two boxes' region ranges.
 ///
-/// No allocation per call in steady state: all buffers are kept and reused.
+/// **Candidate set.** Per body `i`, the sorted list of its partners `j > i` with their counts.
+/// Insertion and removal are a binary search and a short shift in a list of a few entries, and
+/// the output, sorted ascending as the trait requires, is a plain concatenation — O(n + pairs), no
+/// global sort.
+///
+/// **Rebuilds.** The first call, a change in the number of bodies (indices may have been
+/// renumbered), a region grown far beyond the size chosen (bodies gathering; the grid is then
+/// chosen anew) or a call whose region changes and swaps would cost more than a fresh start (e.g.
+/// every body teleported; then the next calls rebuild directly for a while, with exponential
+/// backoff) sort every region's lists from scratch and find the pairs by a sweep of each region
+/// or, when estimated cheaper, a [`CellGrid`]. A few bodies teleporting are just removals and
+/// insertions.
+///
+/// No allocation per call in steady state: all buffers are kept and reused. Everything runs in a
+/// fixed order, so the result and the internal state are deterministic.
 #[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
-    /// Per axis, the `2n` endpoints in `(value, kind)` order.
-    axes: [Vec<Endpoint>; 3],
-    /// `rank[body][axis] = [position of begin, position of end]` in `axes[axis]`.
-    rank: Vec<[[u32; 2]; 3]>,
-    /// `partners[i]`: every `j > i` whose box overlaps box `i`, ascending.
-    partners: Vec<Vec<u32>>,
+    /// Boxes a region is made for at a rebuild; 0 for [`DEFAULT_BODIES_PER_REGION`].
+    bodies_per_region: usize,
+    /// A region side imposed instead (tests: many small regions, boxes larger than regions).
+    fixed_side: Option<f64>,
+    grid: RegionGrid,
+    regions: Vec<Region>,
+    /// Per body, the first and last region coordinates its box overlaps, per axis.
+    range: Vec<Range>,
+    /// `partners[i]`: every `j > i` whose box overlaps box `i`, ascending, with the number of
+    /// regions in which they overlap.
+    partners: Vec<Vec<Partner>>,
     /// Whether the lists describe the boxes of the previous call.
     initialised: bool,
-    /// Rough cost of a full rebuild, in swap-sized units: the insertion sorts give up beyond it.
+    /// Rough cost of a full rebuild, in swap-sized units: an update gives up beyond it.
     rebuild_cost: usize,
-    /// For a rebuild's pairs when it is cheaper than the sweep (dense packings of similar sizes).
-    grid: CellGrid,
-    /// Scratch for the sweep of a rebuild.
+    /// For a rebuild's pairs when it is cheaper than the sweeps (dense packings of similar sizes).
+    cell_grid: CellGrid,
+    /// A region holding more members than this makes the next call choose a new grid.
+    crowded: usize,
+    /// The next call rebuilds with a new grid.
+    regrid: bool,
+    /// `(region, body)` of the boxes leaving and entering regions in this call.
+    leaving: Vec<(u32, u32)>,
+    entering: Vec<(u32, u32)>,
+    /// Scratch: bodies of one region, renumbering, endpoints and the sweep of a rebuild.
+    bodies: Vec<u32>,
+    remap: Vec<u32>,
+    endpoints: Vec<Endpoint>,
+    gathered: Vec<Aabb>,
+    sweep_axis: Vec<u8>,
     active: Vec<(u32, [f64; 4])>,
     active_slot: Vec<u32>,
     swaps: usize,
+    crossings: usize,
     rebuilds: usize,
-    /// Whether the last rebuild took its pairs from `grid`.
+    /// Whether the last rebuild took its pairs from `cell_grid`.
     grid_rebuild: bool,
-    /// After insertion sorts gave up (too much motion per call), the next `skip` calls rebuild
+    /// After an update gave up (too much motion per call), the next `skip` calls rebuild
     /// straight away; `backoff`, doubled on each consecutive give-up, is the next such wait.
     skip: u32,
     backoff: u32,
 }
 
-/// A begin or end point of one body's interval on one axis.
-#[derive(Clone, Copy, Debug)]
-struct Endpoint {
-    value: f64,
-    /// `body << 1 | is_end`.
-    tag: u32,
+/// Boxes per region aimed at when the grid is chosen. Measured on the benchmark scenes (gas,
+/// packing) at 10⁵ and 10⁶ bodies: 250–500 is the optimum, 2000 is 20–40 % slower and 4000
+/// 50–80 % (swaps per body grow like `k^(2/3)`, and on lattices like the number of bodies sharing
+/// a lattice plane in a region); below 250 boxes straddling boundaries and crossings dominate.
+pub const DEFAULT_BODIES_PER_REGION: usize = 500;
+
+/// How far (in region sides) a box's side may withdraw from a region before the box leaves it.
+const HYSTERESIS: f64 = 1.0 / 16.0;
+
+/// `[first, last]` region coordinates of a box, each `[x, y, z]`.
+type Range = [[u16; 3]; 2];
+
+/// A uniform grid of regions: region `(x, y, z)` covers `origin + side * [x, x + 1)` etc., the
+/// first and last ones of each axis extending to infinity.
+#[derive(Clone, Copy, Debug, Default)]
+struct RegionGrid {
+    origin: DVec3,
+    inv_side: DVec3,
+    dims: [usize; 3],
 }
 
-impl Endpoint {
+impl RegionGrid {
+    /// Region coordinate of `v` on `axis`: monotone in `v`, so a box's range of regions holds
+    /// the region of each of its points.
     #[inline]
-    fn body(self) -> usize {
-        (self.tag >> 1) as usize
+    fn coord(&self, v: f64, axis: usize) -> u16 {
+        self.clamp((v - self.origin[axis]) * self.inv_side[axis], axis)
     }
 
-    /// 0 for a begin, 1 for an end.
+    /// The region of a coordinate in region units.
     #[inline]
-    fn kind(self) -> usize {
-        (self.tag & 1) as usize
+    fn clamp(&self, c: f64, axis: usize) -> u16 {
+        // Truncation is floor for `c >= 0` (and needs no call to `floor`); `as` saturates, and
+        // `max` maps NaN to 0.
+        (c.max(0.0) as usize).min(self.dims[axis] - 1) as u16
     }
 
-    /// Strictly after `other` in list order: greater value, or equal value with an end after a
-    /// begin (the tie rule).
+    /// The regions a box is kept in, given those it was in: all it overlaps, and, on each side,
+    /// the old bound if the box still reaches within [`HYSTERESIS`] of it — so that a box
+    /// whose side hovers around a region boundary (a packing vibrating in place) does not leave
+    /// and re-enter at every call. Any range holding the overlapped regions is correct.
     #[inline]
-    fn after(self, other: Endpoint) -> bool {
-        self.value > other.value || (self.value == other.value && self.tag & 1 > other.tag & 1)
+    fn membership(&self, b: &Aabb, old: &Range) -> Range {
+        let mut r = *old;
+        for axis in 0..3 {
+            let lo = (b.min[axis] - self.origin[axis]) * self.inv_side[axis];
+            let tight = self.clamp(lo, axis);
+            if old[0][axis] != tight {
+                let loose = self.clamp(lo - HYSTERESIS, axis);
+                if !(loose <= old[0][axis] && old[0][axis] <= tight) {
+                    r[0][axis] = tight;
+                }
+            }
+            let hi = (b.max[axis] - self.origin[axis]) * self.inv_side[axis];
+            let tight = self.clamp(hi, axis);
+            if old[1][axis] != tight {
+                let loose = self.clamp(hi + HYSTERESIS, axis);
+                if !(tight <= old[1][axis] && old[1][axis] <= loose) {
+                    r[1][axis] = tight;
+                }
+            }
+        }
+        r
     }
+
+    #[inline]
+    fn range(&self, b: &Aabb) -> Range {
+        [
+            [
+                self.coord(b.min.x, 0),
+                self.coord(b.min.y, 1),
+                self.coord(b.min.z, 2),
+            ],
+            [
+                self.coord(b.max.x, 0),
+                self.coord(b.max.y, 1),
+                self.coord(b.max.z, 2),
+            ],
+        ]
+    }
+
+    fn count(&self) -> usize {
+        self.dims.iter().product()
+    }
+
+    #[inline]
+    fn id(&self, c: [u16; 3]) -> usize {
+        (c[2] as usize * self.dims[1] + c[1] as usize) * self.dims[0] + c[0] as usize
+    }
+
+    fn coords(&self, id: usize) -> [u16; 3] {
+        let (nx, ny) = (self.dims[0], self.dims[1]);
+        [
+            (id % nx) as u16,
+            (id / nx % ny) as u16,
+            (id / (nx * ny)) as u16,
+        ]
+    }
+}
+
+/// The region coordinates of a range, x fastest.
+fn regions_of(r: Range) -> impl Iterator<Item = [u16; 3]> {
+    (r[0][2]..=r[1][2]).flat_map(move |z| {
+        (r[0][1]..=r[1][1]).flat_map(move |y| (r[0][0]..=r[1][0]).map(move |x| [x, y, z]))
+    })
+}
+
+#[inline]
+fn contains(r: &Range, c: [u16; 3]) -> bool {
+    (0..3).all(|k| r[0][k] <= c[k] && c[k] <= r[1][k])
+}
+
+/// Number of regions two ranges share.
+#[inline]
+fn shared(a: &Range, b: &Range) -> u32 {
+    (0..3)
+        .map(|k| {
+            let lo = a[0][k].max(b[0][k]) as u32;
+            (a[1][k].min(b[1][k]) as u32 + 1).saturating_sub(lo)
+        })
+        .product()
 }
 
 impl SweepAndPrune {
+    /// Regions made for about `k` boxes each (the default is [`DEFAULT_BODIES_PER_REGION`]).
+    pub fn with_bodies_per_region(k: usize) -> Self {
+        Self {
+            bodies_per_region: k.max(1),
+            ..Self::default()
+        }
+    }
+
+    /// Regions of side `side` (at least), whatever the box sizes: for tests.
+    #[cfg(test)]
+    pub(crate) fn with_region_side(side: f64) -> Self {
+        Self {
+            fixed_side: Some(side),
+            ..Self::default()
+        }
+    }
+
     /// Forgets the lists, so the next call rebuilds from scratch. Never needed for correctness:
     /// bodies renumbered without their number changing are just bodies that moved (swaps, or a
     /// rebuild once those would cost more); this only saves that work when a caller knows.
@@ -108,136 +288,252 @@ impl SweepAndPrune {
         self.swaps
     }
 
-    /// How many times the lists were rebuilt by a full sort and sweep.
+    /// Removals of boxes from regions and insertions into regions in the last call.
+    pub fn crossings_last_call(&self) -> usize {
+        self.crossings
+    }
+
+    /// How many times the lists were rebuilt from scratch.
     pub fn rebuilds(&self) -> usize {
         self.rebuilds
     }
 
-    /// Full sort and sweep: sorts the three lists, then sweeps along the axis on which the fewest
-    /// pairs overlap, testing the other two axes for each pair that overlaps on it. The sweep
-    /// costs one test per pair overlapping on that axis, O(n^(5/3)) in a dense 3-D packing;
-    /// when a [`CellGrid`] is estimated cheaper (similar sizes) it finds the pairs instead, using
-    /// `scratch` for them.
+    /// Number of regions of the current grid.
+    pub fn region_count(&self) -> usize {
+        self.regions.len()
+    }
+
+    fn target(&self) -> f64 {
+        match self.bodies_per_region {
+            0 => DEFAULT_BODIES_PER_REGION as f64,
+            k => k as f64,
+        }
+    }
+
+    /// The grid for `boxes`: cubic cells of side about `(target * volume / n)^(1/3)`, no smaller
+    /// than the largest box, stretched per axis to tile the bounds of the boxes exactly; at most
+    /// a few regions per body and 65 536 per axis.
+    fn choose_grid(&self, boxes: &[Aabb]) -> RegionGrid {
+        let n = boxes.len();
+        let Some(first) = boxes.first() else {
+            return RegionGrid {
+                origin: DVec3::ZERO,
+                inv_side: DVec3::ZERO,
+                dims: [1; 3],
+            };
+        };
+        let (mut bounds, mut largest) = (*first, 0.0f64);
+        for b in boxes {
+            bounds = bounds.union(b);
+            largest = largest.max(b.extent().max_element());
+        }
+        let extent = bounds.extent();
+        let single = RegionGrid {
+            origin: bounds.min,
+            inv_side: DVec3::ZERO,
+            dims: [1; 3],
+        };
+        if !extent.is_finite() || !largest.is_finite() {
+            return single;
+        }
+        let target = self.target();
+        let mut side = match self.fixed_side {
+            Some(side) => side,
+            None => {
+                let span = extent.max(DVec3::splat(largest));
+                (target * span.element_product() / n as f64)
+                    .cbrt()
+                    .max(largest)
+            }
+        };
+        side = side.max(extent.max_element() * 1e-6).max(f64::MIN_POSITIVE);
+        let mut min_side = self.fixed_side.unwrap_or(largest).max(f64::MIN_POSITIVE);
+        let max_regions = (4 * n).max(4096);
+        loop {
+            // Whole regions per axis, of side about `side` but no smaller than `min_side`.
+            let dims = (extent / side)
+                .round()
+                .min((extent / min_side).floor())
+                .max(DVec3::ONE);
+            let count = dims.element_product();
+            if count > max_regions as f64 || dims.max_element() > u16::MAX as f64 {
+                side *= 1.5;
+                min_side *= 1.5;
+                continue;
+            }
+            if self.fixed_side.is_none() && count > 1.0 && (n as f64) < 0.5 * target * count {
+                // Flat or elongated domains: regions thinner than the domain hold too few.
+                side *= 1.26;
+                continue;
+            }
+            let inv_side = DVec3::select(extent.cmpgt(DVec3::ZERO), dims / extent, DVec3::ZERO);
+            return RegionGrid {
+                origin: bounds.min,
+                inv_side,
+                dims: [dims.x as usize, dims.y as usize, dims.z as usize],
+            };
+        }
+    }
+
+    /// Full rebuild: a new grid, every region's lists sorted from scratch, and the pairs found by
+    /// sweeping each region along its best axis or, when estimated cheaper, by a [`CellGrid`]
+    /// (using `scratch` for its pairs).
     fn rebuild(&mut self, boxes: &[Aabb], scratch: &mut Vec<Pair>) {
         let n = boxes.len();
         self.rebuilds += 1;
         self.swaps = 0;
-        self.rank.clear();
-        self.rank.resize(n, [[0; 2]; 3]);
-        let mut overlaps_on = [0usize; 3];
-        for (axis, list) in self.axes.iter_mut().enumerate() {
-            list.clear();
-            for (i, b) in boxes.iter().enumerate() {
-                let tag = (i as u32) << 1;
-                list.push(Endpoint {
-                    value: canonical(b.min[axis]),
-                    tag,
-                });
-                list.push(Endpoint {
-                    value: canonical(b.max[axis]),
-                    tag: tag | 1,
-                });
-            }
-            list.sort_unstable_by(|a, b| a.value.total_cmp(&b.value).then(a.kind().cmp(&b.kind())));
-            // Pairs overlapping on this axis: each begin overlaps every interval still open.
-            let mut open = 0usize;
-            for (pos, e) in list.iter().enumerate() {
-                self.rank[e.body()][axis][e.kind()] = pos as u32;
-                if e.kind() == 0 {
-                    overlaps_on[axis] += open;
-                    open += 1;
-                } else {
-                    open -= 1;
-                }
+        self.crossings = 0;
+        self.regrid = false;
+        self.grid = self.choose_grid(boxes);
+        let grid = self.grid;
+        let count = grid.count();
+        self.regions.truncate(count);
+        for r in &mut self.regions {
+            r.clear();
+        }
+        self.regions.resize_with(count, Region::default);
+        self.range.clear();
+        self.range.extend(boxes.iter().map(|b| grid.range(b)));
+        for (i, r) in self.range.iter().enumerate() {
+            for c in regions_of(*r) {
+                self.regions[grid.id(c)].members.push(i as u32);
             }
         }
+
+        let (mut sort_cost, mut sweep_cost, mut largest_region) = (0, 0, 0);
+        self.sweep_axis.clear();
+        for region in &mut self.regions {
+            let overlaps = region.build(boxes);
+            let axis = (0..3).min_by_key(|&a| overlaps[a]).unwrap_or(0);
+            self.sweep_axis.push(axis as u8);
+            sweep_cost += overlaps[axis];
+            let len = 2 * region.len();
+            sort_cost += 3 * len * (usize::BITS - len.leading_zeros()) as usize;
+            largest_region = largest_region.max(region.len());
+        }
+        self.crowded = 4 * largest_region.max(self.target() as usize);
 
         self.partners.truncate(n);
         for p in &mut self.partners {
             p.clear();
         }
         self.partners.resize_with(n, Vec::new);
-
-        let axis = (0..3).min_by_key(|&a| overlaps_on[a]).unwrap_or(0);
-        let mut pairs = 0;
         let grid_work = grid_work(boxes);
-        let use_grid = grid_work < overlaps_on[axis] as f64;
+        let use_grid = grid_work < sweep_cost as f64;
         self.grid_rebuild = use_grid;
+        let mut pairs = 0;
         if use_grid {
-            self.grid.find_pairs(boxes, scratch);
+            self.cell_grid.find_pairs(boxes, scratch);
             // In ascending order, so each body's list comes out sorted.
             for &(i, j) in scratch.iter() {
-                self.partners[i as usize].push(j);
+                self.partners[i as usize].push(Partner {
+                    body: j,
+                    regions: shared(&self.range[i as usize], &self.range[j as usize]),
+                });
             }
             pairs = scratch.len();
         } else {
-            self.sweep(boxes, axis);
+            for (id, region) in self.regions.iter().enumerate() {
+                region.sweep(
+                    self.sweep_axis[id] as usize,
+                    grid.coords(id),
+                    &self.range,
+                    boxes,
+                    &mut self.active,
+                    &mut self.active_slot,
+                    &mut self.partners,
+                );
+            }
             for p in &mut self.partners {
-                p.sort_unstable();
+                p.sort_unstable_by_key(|p| p.body);
                 pairs += p.len();
             }
         }
-        let sort_cost = 3 * 2 * n * (usize::BITS - (2 * n).leading_zeros()) as usize;
         let search_cost = if use_grid {
             grid_work as usize
         } else {
-            overlaps_on[axis]
+            sweep_cost
         };
         self.rebuild_cost = sort_cost + search_cost + pairs + 1024;
         self.initialised = true;
     }
 
-    /// Fills `partners` (unsorted) by sweeping the sorted list of `axis`.
-    fn sweep(&mut self, boxes: &[Aabb], axis: usize) {
-        let n = boxes.len();
-        let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
-        self.active.clear();
-        self.active_slot.clear();
-        self.active_slot.resize(n, 0);
-        for e in &self.axes[axis] {
-            let a = e.body();
-            if e.kind() == 1 {
-                let slot = self.active_slot[a] as usize;
-                self.active.swap_remove(slot);
-                if let Some(&(moved, _)) = self.active.get(slot) {
-                    self.active_slot[moved as usize] = slot as u32;
-                }
-                continue;
-            }
-            let b = &boxes[a];
-            let ab = [b.min[o1], b.max[o1], b.min[o2], b.max[o2]];
-            for &(other, ob) in &self.active {
-                if ab[0] <= ob[1] && ob[0] <= ab[1] && ab[2] <= ob[3] && ob[2] <= ab[3] {
-                    let (lo, hi) = order(a, other as usize);
-                    self.partners[lo].push(hi as u32);
-                }
-            }
-            self.active_slot[a] = self.active.len() as u32;
-            self.active.push((a as u32, ab));
-        }
-    }
-
-    /// Insertion sorts the three lists after new values are read from `boxes`, updating the
-    /// candidate set on every begin/end swap. Returns false, leaving a state only fit for
-    /// [`Self::rebuild`], once more swaps were made than a rebuild would cost.
+    /// Moves boxes between regions and insertion sorts every region's lists after new values are
+    /// read from `boxes`, updating the candidate set. Returns false, leaving a state only fit for
+    /// [`Self::rebuild`], once the work exceeds what a rebuild would cost.
     fn update(&mut self, boxes: &[Aabb]) -> bool {
         self.swaps = 0;
-        for axis in 0..3 {
-            let list = &mut self.axes[axis];
-            for e in list.iter_mut() {
-                let b = &boxes[e.body()];
-                let v = if e.kind() == 0 {
-                    b.min[axis]
-                } else {
-                    b.max[axis]
-                };
-                debug_assert!(b.min[axis] <= b.max[axis], "box {} is inverted", e.body());
-                e.value = canonical(v);
+        self.leaving.clear();
+        self.entering.clear();
+        // Work of the removals and insertions: a pass over the region's members each.
+        let mut work = 0usize;
+        let grid = self.grid;
+        for (i, b) in boxes.iter().enumerate() {
+            let old = self.range[i];
+            let new = grid.membership(b, &old);
+            if new == old {
+                continue;
             }
-            let budget = self.rebuild_cost.saturating_sub(self.swaps);
-            match insertion_sort(list, axis, &mut self.rank, &mut self.partners, budget) {
-                Some(swaps) => self.swaps += swaps,
-                None => return false,
+            for c in regions_of(old).filter(|&c| !contains(&new, c)) {
+                let id = grid.id(c);
+                work += self.regions[id].len() + 1;
+                self.leaving.push((id as u32, i as u32));
+            }
+            for c in regions_of(new).filter(|&c| !contains(&old, c)) {
+                let id = grid.id(c);
+                work += self.regions[id].len() + 1;
+                self.entering.push((id as u32, i as u32));
+            }
+            self.range[i] = new;
+        }
+        self.crossings = self.leaving.len() + self.entering.len();
+        if work > self.rebuild_cost {
+            return false;
+        }
+
+        // Region by region (regions are independent, and each is touched once while in cache):
+        // (1) removals, in the previous call's state; (2) the LLL; (3) insertions, in the new
+        // sorted state.
+        self.leaving.sort_unstable();
+        self.entering.sort_unstable();
+        let (mut leaving, mut entering) = (&self.leaving[..], &self.entering[..]);
+        let budget = self.rebuild_cost - work;
+        for (id, region) in self.regions.iter_mut().enumerate() {
+            let here = |l: &[(u32, u32)]| l.iter().take_while(|&&(r, _)| r as usize == id).count();
+            let leave = here(leaving);
+            if leave > 0 {
+                self.bodies.clear();
+                self.bodies
+                    .extend(leaving[..leave].iter().map(|&(_, body)| body));
+                leaving = &leaving[leave..];
+                region.remove(&self.bodies, &mut self.partners, &mut self.remap);
+            }
+            if region.len() > 0 {
+                region.refresh(boxes, &mut self.gathered);
+                for axis in 0..3 {
+                    let left = budget.saturating_sub(self.swaps);
+                    match region.sort(axis, &mut self.partners, left) {
+                        Some(swaps) => self.swaps += swaps,
+                        None => return false,
+                    }
+                }
+            }
+            let enter = here(entering);
+            if enter > 0 {
+                self.bodies.clear();
+                self.bodies
+                    .extend(entering[..enter].iter().map(|&(_, body)| body));
+                entering = &entering[enter..];
+                region.insert(
+                    &self.bodies,
+                    boxes,
+                    &self.gathered,
+                    &mut self.partners,
+                    &mut self.endpoints,
+                );
+                if region.len() > self.crowded {
+                    self.regrid = true;
+                }
             }
         }
         true
@@ -247,7 +543,7 @@ impl SweepAndPrune {
 impl BroadPhase for SweepAndPrune {
     fn find_pairs(&mut self, boxes: &[Aabb], pairs: &mut Vec<Pair>) {
         assert!(boxes.len() < 1 << 31, "too many bodies for 31-bit indices");
-        if !self.initialised || self.rank.len() != boxes.len() {
+        if !self.initialised || self.range.len() != boxes.len() || self.regrid {
             self.rebuild(boxes, pairs);
         } else if self.skip > 0 {
             self.skip -= 1;
@@ -263,82 +559,13 @@ impl BroadPhase for SweepAndPrune {
         }
         pairs.clear();
         for (i, partners) in self.partners.iter().enumerate() {
-            pairs.extend(partners.iter().map(|&j| (i as u32, j)));
+            pairs.extend(partners.iter().map(|p| (i as u32, p.body)));
         }
     }
 
     fn name(&self) -> &'static str {
         "sweep_and_prune"
     }
-}
-
-/// Insertion sort of one axis's list, with the overlap events it implies. `None` once `budget`
-/// swaps are exceeded.
-fn insertion_sort(
-    list: &mut [Endpoint],
-    axis: usize,
-    rank: &mut [[[u32; 2]; 3]],
-    partners: &mut [Vec<u32>],
-    budget: usize,
-) -> Option<usize> {
-    let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
-    // Overlap of two bodies on another axis, by list positions (see the count invariant).
-    let overlap = |r: &[[[u32; 2]; 3]], a: usize, b: usize, m: usize| {
-        let (ra, rb) = (r[a][m], r[b][m]);
-        ra[0] < rb[1] && rb[0] < ra[1]
-    };
-    let mut swaps = 0;
-    for i in 1..list.len() {
-        let e = list[i];
-        if !list[i - 1].after(e) {
-            continue;
-        }
-        let eb = e.body();
-        let mut j = i;
-        while j > 0 && list[j - 1].after(e) {
-            let p = list[j - 1];
-            let pb = p.body();
-            // Begin/end swaps of two bodies flip their overlap on this axis; they are in the set
-            // (before or after) iff they overlap on the other two axes.
-            if p.kind() != e.kind()
-                && pb != eb
-                && overlap(rank, pb, eb, o1)
-                && overlap(rank, pb, eb, o2)
-            {
-                let (lo, hi) = order(pb, eb);
-                let list = &mut partners[lo];
-                let found = list.binary_search(&(hi as u32));
-                if e.kind() == 0 {
-                    // e's begin moves below p's end: they start overlapping (count 2 → 3).
-                    debug_assert!(found.is_err(), "pair ({lo}, {hi}) entered twice");
-                    if let Err(at) = found {
-                        list.insert(at, hi as u32);
-                    }
-                } else {
-                    // e's end moves below p's begin: they stop overlapping (count 3 → 2).
-                    debug_assert!(found.is_ok(), "pair ({lo}, {hi}) left without entering");
-                    if let Ok(at) = found {
-                        list.remove(at);
-                    }
-                }
-            }
-            list[j] = p;
-            j -= 1;
-        }
-        list[j] = e;
-        swaps += i - j;
-        if swaps > budget {
-            return None;
-        }
-    }
-    // This axis's positions are read only by the other axes' sorts: one pass writes them all,
-    // cheaper than a random write per swap (dense packings make several swaps per endpoint).
-    if swaps > 0 {
-        for (pos, e) in list.iter().enumerate() {
-            rank[e.body()][axis][e.kind()] = pos as u32;
-        }
-    }
-    Some(swaps)
 }
 
 /// Rough number of box tests a [`CellGrid`] makes: 27 cells of bodies per body, cells no smaller
@@ -358,21 +585,6 @@ fn grid_work(boxes: &[Aabb]) -> f64 {
         .element_product()
         .min(4.0 * n);
     27.0 * n * (1.0 + n / cells)
-}
-
-#[inline]
-fn order(a: usize, b: usize) -> (usize, usize) {
-    if a < b {
-        (a, b)
-    } else {
-        (b, a)
-    }
-}
-
-/// `-0.0` becomes `0.0`, so that the total order used by the rebuild's sort agrees with `<=`.
-#[inline]
-fn canonical(v: f64) -> f64 {
-    v + 0.0
 }
 
 #[cfg(test)]
@@ -492,6 +704,143 @@ mod tests {
         assert!(sap.swaps_last_call() > 1000);
     }
 
+    /// Random boxes (half extents 0.05–1, 1:20) in `[0, side]³`.
+    fn random_boxes(rng: &mut crate::rng::SplitMix64, n: usize, side: f64) -> Vec<Aabb> {
+        (0..n)
+            .map(|_| {
+                let c = DVec3::new(
+                    rng.uniform(0.0, side),
+                    rng.uniform(0.0, side),
+                    rng.uniform(0.0, side),
+                );
+                cube(c.x, c.y, c.z, rng.uniform(0.05, 1.0))
+            })
+            .collect()
+    }
+
+    fn shift(b: &Aabb, d: DVec3) -> Aabb {
+        Aabb::new(b.min + d, b.max + d)
+    }
+
+    #[test]
+    fn bodies_cross_small_regions_often() {
+        // Regions of side 1 (smaller than the largest boxes, 2) in a gas moving fast: many boxes
+        // change regions at every call, pairs are shared by several regions.
+        let mut rng = crate::rng::SplitMix64::new(11);
+        let mut boxes = random_boxes(&mut rng, 500, 12.0);
+        let mut velocity: Vec<DVec3> = (0..boxes.len())
+            .map(|_| DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.15)
+            .collect();
+        let mut sap = SweepAndPrune::with_region_side(1.0);
+        let mut crossings = 0;
+        for _ in 0..40 {
+            check(&mut sap, &boxes);
+            crossings += sap.crossings_last_call();
+            for (b, v) in boxes.iter_mut().zip(&mut velocity) {
+                for axis in 0..3 {
+                    if b.min[axis] < 0.0 || b.max[axis] > 12.0 {
+                        v[axis] = v[axis].abs() * (6.0 - b.min[axis]).signum();
+                    }
+                }
+                *b = shift(b, *v);
+            }
+        }
+        assert!(sap.region_count() > 500, "{} regions", sap.region_count());
+        assert!(crossings > 5000, "{crossings} crossings");
+        assert_eq!(sap.rebuilds(), 1);
+    }
+
+    #[test]
+    fn bodies_larger_than_regions() {
+        // Boxes spanning up to 16 regions per axis, moving and resizing among small ones; a few
+        // teleport every call (removal and insertion, no rebuild).
+        let mut rng = crate::rng::SplitMix64::new(12);
+        let mut boxes = random_boxes(&mut rng, 300, 8.0);
+        for b in boxes.iter_mut().step_by(25) {
+            *b = Aabb::new(b.min, b.min + DVec3::new(4.0, 2.5, 3.0));
+        }
+        let mut sap = SweepAndPrune::with_region_side(0.25);
+        for step in 0..30 {
+            check(&mut sap, &boxes);
+            for (i, b) in boxes.iter_mut().enumerate() {
+                let d = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.03;
+                *b = shift(b, d);
+                if i % 25 == step % 25 {
+                    // Grow or shrink a big box on one side.
+                    let grow = rng.uniform(-0.3, 0.3);
+                    b.max = (b.max + DVec3::splat(grow)).max(b.min);
+                }
+            }
+            for _ in 0..3 {
+                let k = rng.next_u64() as usize % boxes.len();
+                let to = DVec3::new(
+                    rng.uniform(0.0, 8.0),
+                    rng.uniform(0.0, 8.0),
+                    rng.uniform(0.0, 8.0),
+                );
+                boxes[k] = shift(&boxes[k], to - boxes[k].min);
+            }
+        }
+        assert_eq!(sap.rebuilds(), 1);
+    }
+
+    #[test]
+    fn gathering_bodies_choose_a_new_grid() {
+        // Regions made for 20 boxes; the bodies then gather towards the middle, crowding a few
+        // regions until the grid is chosen anew.
+        let mut rng = crate::rng::SplitMix64::new(13);
+        let mut boxes = random_boxes(&mut rng, 1500, 40.0);
+        let mut sap = SweepAndPrune::with_bodies_per_region(20);
+        check(&mut sap, &boxes);
+        let regions = sap.region_count();
+        assert!(regions > 30, "{regions} regions");
+        for _ in 0..25 {
+            for b in boxes.iter_mut() {
+                let centre = (b.min + b.max) * 0.5;
+                *b = shift(b, (DVec3::splat(20.0) - centre) * 0.12);
+            }
+            check(&mut sap, &boxes);
+        }
+        assert!(
+            sap.rebuilds() > 1 && sap.rebuilds() < 10,
+            "{} rebuilds",
+            sap.rebuilds()
+        );
+    }
+
+    #[test]
+    fn flat_and_degenerate_domains() {
+        // Boxes in a plane, on a line and all at one point: the grid must stay sane.
+        let mut rng = crate::rng::SplitMix64::new(14);
+        for dims in [
+            DVec3::new(30.0, 30.0, 0.0),
+            DVec3::new(60.0, 0.0, 0.0),
+            DVec3::ZERO,
+        ] {
+            let mut boxes: Vec<Aabb> = (0..800)
+                .map(|_| {
+                    let c = DVec3::new(
+                        rng.uniform(0.0, 1.0),
+                        rng.uniform(0.0, 1.0),
+                        rng.uniform(0.0, 1.0),
+                    ) * dims;
+                    Aabb::new(c, c)
+                })
+                .collect();
+            let mut sap = SweepAndPrune::with_bodies_per_region(25);
+            for _ in 0..5 {
+                check(&mut sap, &boxes);
+                for b in boxes.iter_mut() {
+                    *b = shift(
+                        b,
+                        DVec3::new(rng.normal(), rng.normal(), 0.0) * 0.1 * dims.signum(),
+                    );
+                }
+            }
+            assert!(sap.region_count() <= 4096);
+        }
+    }
+
     #[test]
     fn teleports_and_body_count_changes() {
         let mut rng = crate::rng::SplitMix64::new(3);
@@ -532,5 +881,69 @@ mod tests {
             "{} rebuilds",
             sap.rebuilds()
         );
+    }
+}
+
+/// Timing of the benchmark scenes with a chosen region size (`cargo test --release --lib
+/// sap_region_size -- --ignored --nocapture`; `SAP_N`, `SAP_K` (comma separated lists),
+/// `SAP_SCENES` (g, p, b)).
+#[cfg(test)]
+mod timing {
+    use super::*;
+    use crate::bench::broad_phase::{Bodies, Scene};
+
+    fn list(var: &str, default: &str) -> Vec<usize> {
+        std::env::var(var)
+            .unwrap_or(default.into())
+            .split(',')
+            .map(|s| s.trim().parse().expect("a number"))
+            .collect()
+    }
+
+    #[test]
+    #[ignore]
+    fn sap_region_size() {
+        let scenes = std::env::var("SAP_SCENES").unwrap_or("gpb".into());
+        for (key, scene) in [
+            ('g', Scene::Gas),
+            ('p', Scene::Packing),
+            ('b', Scene::Bidisperse),
+        ] {
+            if !scenes.contains(key) {
+                continue;
+            }
+            for n in list("SAP_N", "100000") {
+                for k in list("SAP_K", "2000") {
+                    let mut bodies = Bodies::new(scene, n, 1);
+                    let mut sap = SweepAndPrune::with_bodies_per_region(k);
+                    let (mut boxes, mut pairs) = (Vec::new(), Vec::new());
+                    let mut samples = Vec::new();
+                    let (mut swaps, mut crossings) = (0, 0);
+                    for step in 0..13 {
+                        bodies.advance();
+                        bodies.boxes(&mut boxes);
+                        let start = std::time::Instant::now();
+                        sap.find_pairs(&boxes, &mut pairs);
+                        if step >= 3 {
+                            samples.push(start.elapsed().as_secs_f64());
+                            swaps += sap.swaps_last_call();
+                            crossings += sap.crossings_last_call();
+                        }
+                    }
+                    samples.sort_by(f64::total_cmp);
+                    println!(
+                        "{:>16} n {:>8} k {:>6}: {:>8.3} ms, {} regions, {:.1} swaps/body, {:.4} crossings/body, {} rebuilds",
+                        scene.name(),
+                        bodies.len(),
+                        k,
+                        samples[samples.len() / 2] * 1e3,
+                        sap.region_count(),
+                        swaps as f64 / 10.0 / bodies.len() as f64,
+                        crossings as f64 / 10.0 / bodies.len() as f64,
+                        sap.rebuilds()
+                    );
+                }
+            }
+        }
     }
 }

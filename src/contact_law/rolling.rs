@@ -22,7 +22,8 @@ pub fn rolling_torque(
     history: &mut History,
     dt: f64,
 ) -> RollingTorque {
-    if law.rolling_friction <= 0.0 {
+    // Polyhedra resist rolling by their shape; the model is for round bodies.
+    if law.rolling_friction <= 0.0 || k.overlap_volume.is_some() {
         return RollingTorque::default();
     }
     let r = k.effective_radius;

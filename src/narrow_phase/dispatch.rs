@@ -1,0 +1,90 @@
+//! Which contact routine a pair of bodies needs, by the kinds of their shapes.
+
+use super::{
+    convex_convex, convex_plane, convex_sphere, sphere_plane, sphere_sphere, ClipScratch, Geometry,
+    VolumeContact,
+};
+use crate::contact_law::OverlapVolume;
+use crate::math::{DQuat, DVec3};
+use crate::shape::Shape;
+
+/// Where a body is: its shape, centre of mass and orientation (body → world).
+#[derive(Clone, Copy)]
+pub struct Posed<'a> {
+    pub shape: &'a Shape,
+    pub position: DVec3,
+    pub orientation: DQuat,
+}
+
+/// The contact of two bodies, normal pointing from `b` towards `a`; `None` if they do not touch.
+pub fn body_body(a: Posed, b: Posed, scratch: &mut ClipScratch) -> Option<Geometry> {
+    match (a.shape, b.shape) {
+        (Shape::Sphere(sa), Shape::Sphere(sb)) => {
+            sphere_sphere(a.position, sa.radius, b.position, sb.radius)
+        }
+        (Shape::Convex(pa), Shape::Convex(pb)) => convex_convex(
+            pa,
+            a.position,
+            a.orientation,
+            pb,
+            b.position,
+            b.orientation,
+            scratch,
+        )
+        .map(volume_geometry),
+        (Shape::Convex(pa), Shape::Sphere(sb)) => {
+            convex_sphere(pa, a.position, a.orientation, b.position, sb.radius).map(|c| {
+                // The routine's normal points from the sphere (b) towards the polyhedron (a).
+                Geometry {
+                    normal: c.normal,
+                    point: c.point,
+                    overlap: c.depth,
+                    volume: None,
+                }
+            })
+        }
+        (Shape::Sphere(sa), Shape::Convex(pb)) => {
+            convex_sphere(pb, b.position, b.orientation, a.position, sa.radius).map(|c| Geometry {
+                normal: -c.normal,
+                point: c.point,
+                overlap: c.depth,
+                volume: None,
+            })
+        }
+    }
+}
+
+/// The contact of a body with the half-space behind a plane (`normal` into the free side).
+pub fn body_plane(a: Posed, point: DVec3, normal: DVec3) -> Option<Geometry> {
+    match a.shape {
+        Shape::Sphere(s) => sphere_plane(a.position, s.radius, point, normal),
+        Shape::Convex(p) => {
+            convex_plane(p, a.position, a.orientation, point, normal).map(volume_geometry)
+        }
+    }
+}
+
+/// R* for the contact law: the harmonic mean of the radii for two spheres or two polyhedra
+/// (volume-equivalent radii), the sphere's radius for a sphere on a polyhedron's face (a flat
+/// face has no curvature of its own).
+pub fn effective_radius(a: &Shape, b: &Shape) -> f64 {
+    match (a, b) {
+        (Shape::Sphere(s), Shape::Convex(_)) | (Shape::Convex(_), Shape::Sphere(s)) => s.radius,
+        _ => {
+            let (ra, rb) = (a.equivalent_radius(), b.equivalent_radius());
+            ra * rb / (ra + rb)
+        }
+    }
+}
+
+fn volume_geometry(c: VolumeContact) -> Geometry {
+    Geometry {
+        normal: c.normal,
+        point: c.centroid,
+        overlap: c.depth,
+        volume: Some(OverlapVolume {
+            volume: c.volume,
+            area: c.area,
+        }),
+    }
+}
