@@ -10,6 +10,7 @@ pub mod normal;
 pub mod restitution;
 pub mod rolling;
 pub mod tangential;
+pub mod twisting;
 
 use crate::math::DVec3;
 
@@ -90,6 +91,9 @@ pub struct History {
     /// energy ledger must compare this step's spring energy with the one reported last step.
     pub tangential_stiffness: f64,
     pub rolling_stiffness: f64,
+    /// Twisting torque on body i about the normal, and its stiffness (area contacts only).
+    pub twisting_torque: f64,
+    pub twisting_stiffness: f64,
 }
 
 impl History {
@@ -103,7 +107,12 @@ impl History {
         } else {
             0.0
         };
-        tangential + rolling
+        let twisting = if self.twisting_stiffness > 0.0 {
+            0.5 * self.twisting_torque * self.twisting_torque / self.twisting_stiffness
+        } else {
+            0.0
+        };
+        tangential + rolling + twisting
     }
 }
 
@@ -127,11 +136,13 @@ pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -
     let n = normal::normal_force(law, k);
     let t = tangential::tangential_force(law, k, &n, history, dt);
     let r = rolling::rolling_torque(law, k, &n, history, dt);
+    let kt = history.tangential_stiffness;
+    let w = twisting::twisting_torque(law, k, &n, kt, history, dt);
     Response {
         force: k.normal * n.total + t.force,
-        torque: r.torque,
+        torque: r.torque + k.normal * w.torque,
         normal_force: n.total,
-        elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy,
-        dissipated: n.dissipated(k.overlap_rate, dt) + t.dissipated + r.dissipated,
+        elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy + w.elastic_energy,
+        dissipated: n.dissipated(k.overlap_rate, dt) + t.dissipated + r.dissipated + w.dissipated,
     }
 }
