@@ -545,10 +545,14 @@ impl Scene {
             .collect();
         let mut pairs = Vec::new();
         CellGrid::default().find_pairs(&boxes, &mut pairs);
+        let mut scratch = crate::narrow_phase::ClipScratch::default();
         for (i, j) in pairs {
             let ((a, key_a), (b, key_b)) = (&bodies[i as usize], &bodies[j as usize]);
-            let overlap = radius(a) + radius(b) - (a.position - b.position).length();
-            let allowed = tolerance * radius(a).min(radius(b));
+            // The contact detection of the run itself: mean depth for polyhedra.
+            let overlap = crate::narrow_phase::body_body(posed(a), posed(b), &mut scratch)
+                .map_or(0.0, |g| g.overlap);
+            let size = |b: &BodyInit| b.shape.equivalent_radius();
+            let allowed = tolerance * size(a).min(size(b));
             if overlap > allowed {
                 return Err(self.error(
                     key_b.clone(),
@@ -564,7 +568,7 @@ impl Scene {
         for (b, key) in bodies {
             for (n, plane) in planes.iter().enumerate() {
                 let overlap = depth_behind_plane(b, plane);
-                if overlap > tolerance * radius(b) {
+                if overlap > tolerance * b.shape.equivalent_radius() {
                     return Err(self.error(
                         key.clone(),
                         format!(
@@ -578,6 +582,14 @@ impl Scene {
             }
         }
         Ok(())
+    }
+}
+
+fn posed(b: &BodyInit) -> crate::narrow_phase::Posed<'_> {
+    crate::narrow_phase::Posed {
+        shape: &b.shape,
+        position: b.position,
+        orientation: b.orientation,
     }
 }
 
