@@ -28,7 +28,7 @@ pub fn run(
     // last one coincides with the end when the duration is a multiple of the interval.
     let interval = prepared.output_interval;
     let output_step = |k: u64| step_of(k as f64 * interval).max(k);
-    let mut output = RunOutput::create(out_dir, &prepared.world)?;
+    let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output)?;
     output.write(&prepared.world)?;
     let mut outputs = 1;
     let mut next_output = output_step(outputs);

@@ -1,4 +1,5 @@
-//! Simulation output: particle and wall snapshots for ParaView (`.vtp` plus a
+//! Mesh input (`mesh`: STL and OBJ files read into welded triangle lists) and
+//! simulation output: particle and wall snapshots for ParaView (`.vtp` plus a
 //! `.pvd` time series) and scalar time series as CSV.
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
@@ -9,6 +10,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod mesh;
 pub mod output;
 pub mod vtk;
 

@@ -5,10 +5,14 @@
 //! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
 //! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
 //!   pose, with the body's `id` per face (only when the scene has polyhedra);
-//! - `energy.csv`: the energy ledger and contact count at each output time.
+//! - `contacts.pvd` → `contacts_NNNNNN.vtp`: the force network, one line per contact with its
+//!   forces (only when asked for);
+//! - `energy.csv`: the energy ledger and contact count at each output time, and the packing
+//!   fraction of a region when one is given.
 //!
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
+use super::vtk::{write_force_network, ForceNetwork};
 use super::{write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh, PvdSeries};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
@@ -30,12 +34,23 @@ pub const ENERGY_COLUMNS: [&str; 11] = [
     "bodies",
 ];
 
+/// What a run writes beyond the defaults.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OutputOptions {
+    /// Write the force network at every frame.
+    pub force_network: bool,
+    /// Report the packing fraction of this box in `energy.csv`.
+    pub packing_region: Option<Aabb>,
+}
+
 pub struct RunOutput {
     dir: PathBuf,
     particles: PvdSeries,
     walls: PvdSeries,
     polyhedra: PvdSeries,
+    contacts: PvdSeries,
     energy: CsvSeries,
+    options: OutputOptions,
     frame: usize,
     /// Where and how large to draw the infinite plane walls, fixed at the start.
     wall_centre: DVec3,
@@ -44,8 +59,12 @@ pub struct RunOutput {
 
 impl RunOutput {
     /// Creates the output folder (and its parents) for a run of `world`.
-    pub fn create(dir: &Path, world: &World) -> io::Result<Self> {
+    pub fn create(dir: &Path, world: &World, options: &OutputOptions) -> io::Result<Self> {
         std::fs::create_dir_all(dir)?;
+        let mut columns = ENERGY_COLUMNS.to_vec();
+        if options.packing_region.is_some() {
+            columns.push("packing_fraction");
+        }
         let b = &world.bodies;
         let bounds = (0..b.len())
             .map(|i| Aabb::around_sphere(b.position[i], b.bounding_radius[i]))
@@ -56,7 +75,9 @@ impl RunOutput {
             particles: PvdSeries::new(dir.join("particles.pvd")),
             walls: PvdSeries::new(dir.join("walls.pvd")),
             polyhedra: PvdSeries::new(dir.join("polyhedra.pvd")),
-            energy: CsvSeries::new(dir.join("energy.csv"), &ENERGY_COLUMNS),
+            contacts: PvdSeries::new(dir.join("contacts.pvd")),
+            energy: CsvSeries::new(dir.join("energy.csv"), &columns),
+            options: options.clone(),
             frame: 0,
             wall_centre: 0.5 * (bounds.min + bounds.max),
             wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
@@ -106,8 +127,14 @@ impl RunOutput {
             self.polyhedra.add(world.time, &name, 0)?;
         }
 
+        if self.options.force_network {
+            let name = format!("contacts_{:06}.vtp", self.frame);
+            write_force_network(&self.dir.join(&name), &force_network(world), world.time)?;
+            self.contacts.add(world.time, &name, 0)?;
+        }
+
         let e = world.energy();
-        self.energy.push(&[
+        let mut row = vec![
             world.time,
             e.kinetic_translational,
             e.kinetic_rotational,
@@ -119,7 +146,11 @@ impl RunOutput {
             e.total(),
             e.contacts as f64,
             b.len() as f64,
-        ])?;
+        ];
+        if let Some(region) = self.options.packing_region {
+            row.push(packing_fraction(world, &region));
+        }
+        self.energy.push(&row)?;
         self.frame += 1;
         Ok(())
     }
@@ -158,4 +189,43 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
         }
     }
     mesh
+}
+
+/// One line per contact: body centre to body centre, or body centre to the contact point on a
+/// wall.
+fn force_network(world: &World) -> ForceNetwork {
+    let b = &world.bodies;
+    let mut network = ForceNetwork::default();
+    let mut line = |from: DVec3, to: DVec3, c: &crate::contact::Contact, wall: u32| {
+        let first = network.points.len() as u32;
+        network.points.extend([from, to]);
+        network.lines.push(vec![first, first + 1]);
+        network.normal_force.push(c.response.normal_force);
+        network.force.push(c.response.force);
+        network.wall_contact.push(wall);
+    };
+    for c in &world.contacts.contacts {
+        line(b.position[c.a as usize], b.position[c.b as usize], c, 0);
+    }
+    for c in &world.plane_contacts.contacts {
+        line(b.position[c.a as usize], c.geometry.point, c, 1);
+    }
+    network
+}
+
+/// Volume of the bodies whose centre lies in `region`, over the region's volume. Counting by
+/// centre is exact on average for a region many bodies wide (the parts of bodies sticking out
+/// balance those sticking in); keep the region a few body sizes away from walls and the free
+/// surface.
+pub fn packing_fraction(world: &World, region: &Aabb) -> f64 {
+    let b = &world.bodies;
+    let solid: f64 = (0..b.len())
+        .filter(|&i| b.position[i].cmpge(region.min).all() && b.position[i].cmple(region.max).all())
+        .map(|i| {
+            world.shapes[b.shape[i] as usize]
+                .unit_mass_properties()
+                .volume
+        })
+        .sum();
+    solid / region.extent().element_product()
 }

@@ -138,6 +138,57 @@ pub fn write_polygons(
     write_atomic(path, |w| file.write_to(w))
 }
 
+/// Contact forces as lines between the centres of the bodies in contact (a body–wall contact
+/// runs from the body's centre to the contact point), for ParaView's force-network views.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ForceNetwork {
+    pub points: Vec<DVec3>,
+    /// Two indices into `points` per line.
+    pub lines: Vec<Vec<u32>>,
+    /// Per line: normal force magnitude [N] (cell data `normal_force`).
+    pub normal_force: Vec<f64>,
+    /// Per line: total contact force on the first body [N] (cell data `force`).
+    pub force: Vec<DVec3>,
+    /// Per line: 0 for body–body, 1 for body–wall (cell data `wall_contact`).
+    pub wall_contact: Vec<u32>,
+}
+
+/// Writes a force network as a `.vtp` file of line cells.
+pub fn write_force_network(path: &Path, network: &ForceNetwork, time: f64) -> io::Result<()> {
+    let n = network.lines.len();
+    if network.normal_force.len() != n
+        || network.force.len() != n
+        || network.wall_contact.len() != n
+    {
+        return Err(invalid_input("force network arrays differ in length"));
+    }
+    if let Some(bad) = network
+        .lines
+        .iter()
+        .flatten()
+        .find(|&&v| v as usize >= network.points.len())
+    {
+        return Err(invalid_input(format!(
+            "force network line refers to point {bad} of {}",
+            network.points.len()
+        )));
+    }
+    let file = PolyDataFile {
+        time,
+        num_points: network.points.len(),
+        points: Values::Vec3(&network.points),
+        point_data: Vec::new(),
+        point_attributes: "",
+        cells: Cells::Lines(&network.lines),
+        cell_data: vec![
+            Array::new("normal_force", Values::F64(&network.normal_force)),
+            Array::new("force", Values::Vec3(&network.force)),
+            Array::new("wall_contact", Values::U32(&network.wall_contact)),
+        ],
+    };
+    write_atomic(path, |w| file.write_to(w))
+}
+
 /// A `.pvd` collection indexing a time series of `.vtp` files, so ParaView
 /// opens the whole run as one animated data set with true simulation times.
 #[derive(Debug, Clone)]
@@ -349,6 +400,7 @@ impl<'a> Array<'a> {
 /// The cell topology of a piece.
 enum Cells<'a> {
     Verts(usize),
+    Lines(&'a [Vec<u32>]),
     Polys(&'a [Vec<u32>]),
 }
 
@@ -369,16 +421,26 @@ impl PolyDataFile<'_> {
         let time = [self.time];
         let time_array = Array::new("TIME", Values::F64(&time));
         let points = Array::new("Points", self.points);
-        let (tag, num_verts, num_polys, connectivity, offsets) = match self.cells {
+        let (tag, num_verts, num_lines, num_polys, connectivity, offsets) = match self.cells {
             Cells::Verts(n) => (
                 "Verts",
                 n,
                 0,
+                0,
                 Values::VertConnectivity(n),
                 Values::VertOffsets(n),
             ),
+            Cells::Lines(l) => (
+                "Lines",
+                0,
+                l.len(),
+                0,
+                Values::PolyConnectivity(l),
+                Values::PolyOffsets(l),
+            ),
             Cells::Polys(p) => (
                 "Polys",
+                0,
                 0,
                 p.len(),
                 Values::PolyConnectivity(p),
@@ -405,7 +467,7 @@ impl PolyDataFile<'_> {
         header.array("      ", &time_array, Some(1))?;
         header.line("    </FieldData>")?;
         header.line(&format!(
-            r#"    <Piece NumberOfPoints="{}" NumberOfVerts="{num_verts}" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="{num_polys}">"#,
+            r#"    <Piece NumberOfPoints="{}" NumberOfVerts="{num_verts}" NumberOfLines="{num_lines}" NumberOfStrips="0" NumberOfPolys="{num_polys}">"#,
             self.num_points
         ))?;
         header.line(&format!("      <PointData{}>", self.point_attributes))?;
@@ -861,6 +923,34 @@ mod tests {
         assert_eq!(polygons, mesh.polygons);
         assert_eq!(vtp.u32s("CellData/wall"), mesh.cell_ids);
         assert_eq!(vtp.f64s("FieldData/TIME"), [1e-7]);
+    }
+
+    #[test]
+    fn force_network_round_trip() {
+        let network = ForceNetwork {
+            points: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, 2.0, 0.0)],
+            lines: vec![vec![0, 1], vec![1, 2]],
+            normal_force: vec![3.5, 0.25],
+            force: vec![DVec3::new(3.5, 0.1, 0.0), DVec3::new(0.0, -0.25, 0.0)],
+            wall_contact: vec![0, 1],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("forces.vtp");
+        write_force_network(&path, &network, 0.5).unwrap();
+        let vtp = read_vtp(&path);
+        assert_eq!(vtp.piece["NumberOfLines"], "2");
+        assert_eq!(vtp.piece["NumberOfPolys"], "0");
+        assert_eq!(vtp.i64s("Lines/connectivity"), [0, 1, 1, 2]);
+        assert_eq!(vtp.i64s("Lines/offsets"), [2, 4]);
+        assert_eq!(vtp.f64s("CellData/normal_force"), network.normal_force);
+        assert_eq!(
+            bits(vtp.f64s("CellData/force")),
+            bits(&flat3(&network.force))
+        );
+        assert_eq!(vtp.u32s("CellData/wall_contact"), network.wall_contact);
+        let mut broken = network.clone();
+        broken.lines[1][1] = 7;
+        assert!(write_force_network(&path, &broken, 0.5).is_err());
     }
 
     #[test]

@@ -22,6 +22,8 @@ pub struct SceneFile {
     #[serde(default, rename = "insert")]
     pub insertions: Vec<InsertSpec>,
     pub domain: Option<DomainSpec>,
+    #[serde(default)]
+    pub output: OutputSpec,
     /// Named particle shapes, `[shape.NAME]`, used by `[[particle]]` and `[[insert]]`.
     #[serde(default, rename = "shape")]
     pub shapes: std::collections::BTreeMap<String, ShapeSpec>,
@@ -70,6 +72,20 @@ pub enum ShapeSpec {
         #[serde(default)]
         seed: u64,
     },
+    /// A convex particle read from a mesh file (`.stl`, ASCII or binary, or `.obj`), relative to
+    /// the scene file's folder; coordinates multiplied by `scale` (file units → metres). A
+    /// non-convex mesh is refused unless `convex_hull = true`, which uses its convex hull.
+    Mesh {
+        file: String,
+        #[serde(default = "unit_scale")]
+        scale: f64,
+        #[serde(default)]
+        convex_hull: bool,
+    },
+}
+
+fn unit_scale() -> f64 {
+    1.0
 }
 
 fn yes() -> bool {
@@ -78,6 +94,17 @@ fn yes() -> bool {
 
 fn unit_elongation() -> Vec3 {
     [1.0, 1.0, 1.0]
+}
+
+/// What a run writes beyond the defaults.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Write the contact force network (`contacts.pvd`).
+    #[serde(default)]
+    pub force_network: bool,
+    /// Report the packing fraction of this box in `energy.csv`.
+    pub packing_region: Option<DomainSpec>,
 }
 
 /// An open boundary: bodies whose centre leaves this box are removed.

@@ -45,6 +45,8 @@ pub struct Prepared {
     pub automatic_time_step: bool,
     /// Insertions still to come during the run, in file order.
     pub schedule: Vec<ScheduledInsertion>,
+    /// What the run writes beyond the defaults.
+    pub output: crate::io::output::OutputOptions,
 }
 
 /// An `[[insert]]` that happens during the run, once or repeatedly.
@@ -398,6 +400,14 @@ impl Scene {
             estimate,
             automatic_time_step: automatic,
             schedule,
+            output: crate::io::output::OutputOptions {
+                force_network: spec.output.force_network,
+                packing_region: spec
+                    .output
+                    .packing_region
+                    .as_ref()
+                    .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
+            },
         })
     }
 

@@ -2,9 +2,13 @@
 
 use super::format::ShapeSpec;
 use super::{KeyPath, Scene, SceneError};
+use crate::io::mesh::read_mesh;
 use crate::math::{DQuat, DVec3};
-use crate::shape::{generators, ConvexPolyhedron, MassProperties, Shape, Sphere};
+use crate::shape::import::{convex_from_mesh, percent, MeshShapeError};
+use crate::shape::{generators, ConvexPolyhedron, MassProperties, Shape, ShapeError, Sphere};
 use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
 use std::sync::Arc;
 
 /// A shape ready to place. Polyhedra live in their principal frame; `principal` and `centre` say
@@ -30,22 +34,59 @@ impl BuiltShape {
     }
 }
 
+/// Why a shape could not be built: the key of its `[shape.NAME]` table to blame, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeBuildError {
+    pub key: String,
+    pub message: String,
+}
+
+impl ShapeBuildError {
+    fn new(key: &str, message: impl Into<String>) -> Self {
+        Self {
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for ShapeBuildError {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}: {}", self.key, self.message)
+    }
+}
+
 pub fn build(scene: &Scene) -> Result<BTreeMap<String, BuiltShape>, SceneError> {
     let mut built = BTreeMap::new();
     for (name, spec) in &scene.spec.shapes {
-        let key = KeyPath::table(&format!("shape.{name}")).key("type");
-        let shape = build_one(spec).map_err(|e| scene.error(key, e))?;
+        let shape = build_one(spec, scene_folder(scene)).map_err(|e| {
+            scene.error(
+                KeyPath::table(&format!("shape.{name}")).key(&e.key),
+                e.message,
+            )
+        })?;
         built.insert(name.clone(), shape);
     }
     Ok(built)
 }
 
-pub(super) fn build_one(spec: &ShapeSpec) -> Result<BuiltShape, String> {
+/// The folder of the scene file: files a scene names (meshes) are relative to it.
+pub(super) fn scene_folder(scene: &Scene) -> &Path {
+    scene.file.parent().unwrap_or(Path::new(""))
+}
+
+/// Builds one shape; files it names are looked for relative to `folder`.
+pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, ShapeBuildError> {
     let positive = |what: &str, v: f64| {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(format!("{what} = {v} is not allowed: must be > 0 m"))
+            // `edges[1]` is reported at the key `edges`.
+            let key = what.split('[').next().unwrap_or(what);
+            Err(ShapeBuildError::new(
+                key,
+                format!("{what} = {v} is not allowed: must be > 0 m"),
+            ))
         }
     };
     let polyhedron = match spec {
@@ -77,7 +118,10 @@ pub(super) fn build_one(spec: &ShapeSpec) -> Result<BuiltShape, String> {
             height,
         } => {
             if *sides < 3 {
-                return Err(format!("sides = {sides}: a prism needs at least 3 sides"));
+                return Err(ShapeBuildError::new(
+                    "sides",
+                    format!("sides = {sides}: a prism needs at least 3 sides"),
+                ));
             }
             generators::regular_prism(
                 *sides,
@@ -96,7 +140,10 @@ pub(super) fn build_one(spec: &ShapeSpec) -> Result<BuiltShape, String> {
             seed,
         } => {
             if *vertices < 4 {
-                return Err(format!("vertices = {vertices}: a rock needs at least 4"));
+                return Err(ShapeBuildError::new(
+                    "vertices",
+                    format!("vertices = {vertices}: a rock needs at least 4"),
+                ));
             }
             for (axis, &e) in elongation.iter().enumerate() {
                 positive(&format!("elongation[{axis}]"), e)?;
@@ -108,14 +155,84 @@ pub(super) fn build_one(spec: &ShapeSpec) -> Result<BuiltShape, String> {
                 positive("size", *size)?,
             )
         }
+        ShapeSpec::Mesh {
+            file,
+            scale,
+            convex_hull,
+        } => Ok(mesh_shape(folder, file, *scale, *convex_hull)?),
     };
-    let (polyhedron, mass): (ConvexPolyhedron, MassProperties) =
-        polyhedron.map_err(|e| e.to_string())?;
+    let (polyhedron, mass): (ConvexPolyhedron, MassProperties) = polyhedron.map_err(|e| {
+        // A `hull` is blamed on its points; a mesh has said which key already.
+        let key = match spec {
+            ShapeSpec::Hull { .. } => "points",
+            _ => "type",
+        };
+        ShapeBuildError::new(key, e.to_string())
+    })?;
     Ok(BuiltShape {
         principal: mass.principal_rotation(),
         centre: mass.center_of_mass,
         shape: Shape::Convex(Arc::new(polyhedron)),
     })
+}
+
+/// Reads a mesh file and makes it a convex polyhedron; every message names the file.
+fn mesh_shape(
+    folder: &Path,
+    file: &str,
+    scale: f64,
+    use_hull: bool,
+) -> Result<(ConvexPolyhedron, MassProperties), ShapeBuildError> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(ShapeBuildError::new(
+            "scale",
+            format!("scale = {scale} is not allowed: must be > 0 (metres per unit of the file)"),
+        ));
+    }
+    let path = folder.join(file);
+    let mesh = read_mesh(&path, scale).map_err(|e| ShapeBuildError::new("file", e.to_string()))?;
+    let name = path.display();
+    let hint = "set convex_hull = true to use the convex hull of its vertices";
+    convex_from_mesh(&mesh.vertices, &mesh.triangles, use_hull)
+        .map(|c| (c.polyhedron, c.mass))
+        .map_err(|e| {
+            let message = match e {
+                MeshShapeError::NotConvex {
+                    hull_excess,
+                    deepest,
+                } => {
+                    let vertex = deepest
+                        .map(|(index, p, depth)| {
+                            format!(
+                                "; vertex {index} at [{}, {}, {}] m lies {depth:.3e} m inside it",
+                                p.x, p.y, p.z
+                            )
+                        })
+                        .unwrap_or_default();
+                    format!(
+                        "{name} is not convex (its convex hull is {} % larger{vertex}): set \
+                         convex_hull = true to use the hull, or wait for non-convex particles",
+                        percent(hull_excess)
+                    )
+                }
+                MeshShapeError::Shape(ShapeError::TooFewPoints { count }) => format!(
+                    "{name} has {count} distinct vertices (after welding those closer than {:e} \
+                     of its size): a particle needs at least 4",
+                    crate::io::mesh::WELD_TOLERANCE
+                ),
+                MeshShapeError::Shape(
+                    e @ (ShapeError::Coincident | ShapeError::Collinear | ShapeError::Coplanar),
+                ) => format!("{name} has zero volume: {e}"),
+                MeshShapeError::Shape(e) => format!("{name}: {e}"),
+                e @ (MeshShapeError::NotClosed { .. } | MeshShapeError::Inconsistent { .. }) => {
+                    format!("{name}: {e}; repair the mesh, or {hint}")
+                }
+                e @ MeshShapeError::SelfIntersecting { .. } => {
+                    format!("{name}: {e}; repair the mesh, or {hint}")
+                }
+            };
+            ShapeBuildError::new("file", message)
+        })
 }
 
 /// A rotation drawn uniformly (Shoemake 1992, "Uniform random rotations", Graphics Gems III).
@@ -138,9 +255,12 @@ mod tests {
 
     #[test]
     fn a_box_keeps_the_users_axes() {
-        let b = build_one(&ShapeSpec::Box {
-            edges: [1.0, 2.0, 3.0],
-        })
+        let b = build_one(
+            &ShapeSpec::Box {
+                edges: [1.0, 2.0, 3.0],
+            },
+            Path::new(""),
+        )
         .unwrap();
         let Shape::Convex(p) = &b.shape else { panic!() };
         let (x, q) = b.pose(DVec3::new(5.0, 0.0, 0.0), DQuat::IDENTITY);
@@ -170,14 +290,22 @@ mod tests {
 
     #[test]
     fn bad_parameters_are_refused() {
-        assert!(build_one(&ShapeSpec::Box {
-            edges: [1.0, 0.0, 1.0]
-        })
-        .unwrap_err()
-        .contains("edges[1]"));
-        assert!(build_one(&ShapeSpec::Hull {
-            points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]
-        })
-        .is_err());
+        let e = build_one(
+            &ShapeSpec::Box {
+                edges: [1.0, 0.0, 1.0],
+            },
+            Path::new(""),
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "edges");
+        assert!(e.message.contains("edges[1]"));
+        let e = build_one(
+            &ShapeSpec::Hull {
+                points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
+            },
+            Path::new(""),
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "points");
     }
 }

@@ -112,6 +112,14 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     for (n, i) in s.insertions.iter().enumerate() {
         check_insertion(&c, n, i)?;
     }
+    if let Some(r) = &s.output.packing_region {
+        let key = |k: &str| KeyPath::table("output").key(&format!("packing_region.{k}"));
+        c.vector(key("min"), r.min)?;
+        c.vector(key("max"), r.max)?;
+        if (0..3).any(|a| r.max[a] <= r.min[a]) {
+            return Err(scene.error(key("max"), "max must be greater than min on every axis"));
+        }
+    }
     if let Some(d) = &s.domain {
         let key = |k: &str| KeyPath::table("domain").key(k);
         c.vector(key("min"), d.min)?;
@@ -164,7 +172,8 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
                 .shape
                 .as_ref()
                 .and_then(|name| c.scene.spec.shapes.get(name));
-            match spec.map(super::shapes::build_one) {
+            let folder = super::shapes::scene_folder(c.scene);
+            match spec.map(|spec| super::shapes::build_one(spec, folder)) {
                 Some(Ok(built)) => (
                     built.shape.equivalent_radius(),
                     built.shape.bounding_radius(),
