@@ -6,6 +6,7 @@
 
 mod error;
 pub mod generators;
+pub mod import;
 mod mass_properties;
 mod polyhedron;
 mod sphere;
