@@ -327,6 +327,7 @@ impl World {
             half_step: 0.5 * dt,
         };
         let bodies = &self.bodies;
+        let shapes = &self.shapes;
         let laws = &self.pair_laws;
         self.contacts
             .contacts
@@ -334,7 +335,13 @@ impl World {
             .with_min_len(256)
             .for_each(|c| {
                 let (a, b) = (c.a as usize, c.b as usize);
-                let (ra, rb) = (bodies.bounding_radius[a], bodies.bounding_radius[b]);
+                // R* from the volume-equivalent radii (the sphere's radius on a polyhedron), as
+                // the laws and the time-step estimate define it; the bounding radius of a
+                // polyhedron would soften every contact (by 1.4 for a cube).
+                let effective_radius = narrow_phase::effective_radius(
+                    &shapes[bodies.shape[a] as usize],
+                    &shapes[bodies.shape[b] as usize],
+                );
                 let (ma, mb) = (bodies.mass[a], bodies.mass[b]);
                 let (va, va_end) = motion.at(a, c.geometry.point);
                 let (vb, vb_end) = motion.at(b, c.geometry.point);
@@ -343,7 +350,7 @@ impl World {
                     va - vb,
                     va_end - vb_end,
                     bodies.angular_velocity[a] - bodies.angular_velocity[b],
-                    ra * rb / (ra + rb),
+                    effective_radius,
                     ma * mb / (ma + mb),
                 );
                 let law = laws.get(bodies.material[a], bodies.material[b]);
@@ -362,7 +369,7 @@ impl World {
                     va,
                     va_end,
                     bodies.angular_velocity[a],
-                    bodies.bounding_radius[a],
+                    bodies.equivalent_radius[a],
                     bodies.mass[a],
                 );
                 let law = laws.get(bodies.material[a], planes[c.b as usize].material);

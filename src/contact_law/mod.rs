@@ -8,6 +8,7 @@
 
 pub mod normal;
 pub mod restitution;
+pub mod rocking;
 pub mod rolling;
 pub mod tangential;
 pub mod twisting;
@@ -138,11 +139,16 @@ pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -
     let r = rolling::rolling_torque(law, k, &n, history, dt);
     let kt = history.tangential_stiffness;
     let w = twisting::twisting_torque(law, k, &n, kt, history, dt);
+    let rock = rocking::rocking_torque(law, k, &n, dt);
     Response {
         force: k.normal * n.total + t.force,
-        torque: r.torque + k.normal * w.torque,
+        torque: r.torque + k.normal * w.torque + rock.torque,
         normal_force: n.total,
         elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy + w.elastic_energy,
-        dissipated: n.dissipated(k.overlap_rate, dt) + t.dissipated + r.dissipated + w.dissipated,
+        dissipated: n.dissipated(k.overlap_rate, dt)
+            + t.dissipated
+            + r.dissipated
+            + w.dissipated
+            + rock.dissipated,
     }
 }

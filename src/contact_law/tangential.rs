@@ -48,7 +48,15 @@ pub fn tangential_force(
     }
     let old_xi = rotate_into_plane(history.tangential_spring, k.normal);
     let old_kt = history.tangential_stiffness;
-    let gamma = law.damping * (k.effective_mass * kt).sqrt();
+    // The dashpot constant of the normal law in use: the volume law's for polyhedra (whose k_t is
+    // linear in the normal stiffness, as the twisting dashpot assumes), Hertz's or the linear
+    // spring's otherwise.
+    let c = if k.overlap_volume.is_some() {
+        law.damping_volume
+    } else {
+        law.damping
+    };
+    let gamma = c * (k.effective_mass * kt).sqrt();
     let damping = -gamma * k.tangential_velocity_end;
     let mut xi = old_xi + k.tangential_velocity * dt;
     let mut force = -kt * xi + damping;
