@@ -8,7 +8,7 @@
 //! {|x| + |z| ≤ s, a/√2 − s + |z| ≤ y ≤ a/√2 − |x|}: volume ∫∫ (s − |x| − |z|) dx dz = 2 s³/3,
 //! projected area on the y plane 2 s², centroid (0, a/√2 − s/2, 0) on the line through the edges'
 //! closest points (the y axis, which also joins the centres). The force on A must point along −y,
-//! on B along +y, with magnitude k_v V, k_v = E*/R*, R* = R_eq/2; and since it passes through both
+//! on B along +y, with the magnitude of the elastic-foundation law (checked by Monte Carlo); since it passes through both
 //! centres they fly apart along y without spinning.
 //!
 //! Energy. With e = 1 (no dashpot) and μ = 0 (no friction) nothing dissipates, and a collision of
@@ -76,6 +76,40 @@ rotation = [{FRAC_PI_4}, 0.0, 0.0]
     ))
 }
 
+/// The force of the volume law for the crossed edges, from its energy
+/// W = (k_v/2) ∫ (φ_A + φ_B) dV (k_v = E*/R*, φ the depth below each cube's surface): the overlap
+/// is a tetrahedron scaling with the cut s, so W ∝ s⁴ and |F| = dW/ds = 4W/s. The integral is
+/// estimated by Monte Carlo over a box around the crossing holding the tetrahedron.
+fn winkler_force(p: &Prepared) -> f64 {
+    let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
+    let r_eq = (3.0 * EDGE.powi(3) / (4.0 * PI)).cbrt();
+    let k_v = e_star / (0.5 * r_eq);
+    let b = &p.world.bodies;
+    let depth = |i: usize, x: DVec3| {
+        let local = b.orientation[i].inverse() * (x - b.position[i]);
+        0.5 * EDGE - local.abs().max_element()
+    };
+    let centre = DVec3::new(0.0, EDGE / SQRT_2 - 0.5 * CUT, 0.0);
+    let half = DVec3::new(1.2 * CUT, 0.6 * CUT, 1.2 * CUT);
+    let mut rng = polydem::rng::SplitMix64::new(11);
+    let samples = 600_000;
+    let mut sum = 0.0;
+    for _ in 0..samples {
+        let x = centre
+            + DVec3::new(
+                rng.uniform(-half.x, half.x),
+                rng.uniform(-half.y, half.y),
+                rng.uniform(-half.z, half.z),
+            );
+        let (da, db) = (depth(0, x), depth(1, x));
+        if da > 0.0 && db > 0.0 {
+            sum += da + db;
+        }
+    }
+    let integral = sum / samples as f64 * 8.0 * half.element_product();
+    4.0 * 0.5 * k_v * integral / CUT
+}
+
 /// Is `point` (world) inside body `i` (a cube of edge EDGE)?
 fn inside_cube(p: &Prepared, i: usize, point: DVec3) -> bool {
     let b = &p.world.bodies;
@@ -115,7 +149,7 @@ fn crossed_edges_repel_along_the_line_through_them() {
     let crossing = DVec3::new(0.0, EDGE / SQRT_2 - 0.5 * CUT, 0.0);
     let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
     let r_eq = (3.0 * EDGE.powi(3) / (4.0 * PI)).cbrt();
-    let force = e_star / (0.5 * r_eq) * volume;
+    let force = winkler_force(&p);
     let f = c.response.force;
     println!(
         "V = {:.6e} m³ (2s³/3 = {volume:.6e}), area {:.6e} m² (2s² = {area:.6e}), depth {:.6e} m \
@@ -137,9 +171,11 @@ fn crossed_edges_repel_along_the_line_through_them() {
         direction.dot(-DVec3::Y) > 1.0 - 1e-12,
         "force on A {direction:?}"
     );
-    // Magnitude: k_v V (e = 1 here: no dashpot), to the 1e-5 of the volume.
+    // Magnitude: the derivative of the elastic-foundation energy, estimated independently of
+    // the engine by Monte Carlo (below); its standard error is ~0.3 %, so 2 % (about 6σ).
+    let _ = (e_star, r_eq, volume);
     assert!(
-        (f.length() / force - 1.0).abs() < 1e-5,
+        (f.length() / force - 1.0).abs() < 0.02,
         "|F| = {}",
         f.length()
     );
@@ -307,15 +343,13 @@ fn elastic_collisions_do_not_depend_on_the_step() {
 }
 
 /// The brief's claim (after Feng et al. 2012): an elastic, frictionless collision of two
-/// polyhedra at a random orientation changes the kinetic energy by less than 1 %. It does not
-/// hold for the engine's volume law: of six rock pairs two change by 1.2 % and 1.4 % (one a gain),
-/// and of six cube pairs two by 3.4 % and 3.6 % — the same at half the step, so a property of the
-/// law, not of the integration. F = k_v V along the vector area S is not the gradient of any
-/// potential of the overlap unless |S| stays constant (a face on a face): the conservative form
-/// (Feng, Han & Owen 2012) is F = w'(V) S with its line of action fixed by the moment of S, which
-/// is a different law. Ignored until the law is made energy-conserving; run with `--ignored`.
+/// polyhedra at a random orientation changes the kinetic energy by less than 1 %. The volume law
+/// is the gradient of the elastic-foundation energy (k_v/2) ∫ (φ_A + φ_B) dV, so only the
+/// numerics can change the energy; measured: at most 1.9e-3 for six rock pairs and 9.0e-3 for six
+/// cube pairs, the same at both steps. (The earlier law, k_v V along the vector area at the
+/// centroid, changed it by up to 3.6 %: it is not a gradient where the overlap meets more than
+/// one face of a body, as at crossing edges.)
 #[test]
-#[ignore = "the volume law is not energy-conserving: up to 3.6 % change in elastic collisions"]
 fn elastic_polyhedra_keep_their_kinetic_energy() {
     for cubes in [false, true] {
         let worst = energy_changes(cubes)

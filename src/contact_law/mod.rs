@@ -79,6 +79,12 @@ pub struct OverlapVolume {
     pub volume: f64,
     /// Area of the overlap's cross-section normal to the contact normal, |S| [m²].
     pub area: f64,
+    /// |Resultant| of the elastic-foundation pressure per unit stiffness [m³] (V for a face
+    /// contact), its moment about the contact point on body i [m⁴] and its potential [m⁴]
+    /// (see `narrow_phase::clip::Winkler`).
+    pub load: f64,
+    pub couple: DVec3,
+    pub potential: f64,
 }
 
 /// What a contact remembers between steps while it lasts.
@@ -142,7 +148,7 @@ pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -
     let rock = rocking::rocking_torque(law, k, &n, dt);
     Response {
         force: k.normal * n.total + t.force,
-        torque: r.torque + k.normal * w.torque + rock.torque,
+        torque: r.torque + k.normal * w.torque + rock.torque + n.couple,
         normal_force: n.total,
         elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy + w.elastic_energy,
         dissipated: n.dissipated(k.overlap_rate, dt)

@@ -1,6 +1,7 @@
 //! Elastic normal force and normal damping.
 
 use super::{Kinematics, NormalLaw, OverlapVolume, PairLaw};
+use crate::math::DVec3;
 
 /// Normal force of one contact, split into its elastic and damping parts.
 #[derive(Clone, Copy, Debug)]
@@ -13,6 +14,8 @@ pub struct NormalForce {
     pub stiffness: f64,
     /// Elastic energy ∫F_el dδ [J].
     pub elastic_energy: f64,
+    /// Torque on body i about the contact point from the pressure's distribution (volume law).
+    pub couple: DVec3,
 }
 
 impl NormalForce {
@@ -44,36 +47,60 @@ pub fn elastic(law: &PairLaw, overlap: f64, effective_radius: f64) -> (f64, f64,
     }
 }
 
-/// The volume law for polyhedra: F = k_v V with k_v = E*/R* (Eliáš 2014, "Simulation of railway
-/// ballast using crushable polyhedral particles", Powder Technol. 264, 458, for the form; R* of
-/// the volume-equivalent spheres gives k_v its scale: a flat contact of area A then has the
-/// stiffness E* A / R* of a column of the body's size). Tangent stiffness S_n = dF/dδ = k_v A.
-/// Elastic energy ½ F V/A: exact while the contact area does not change with depth (faces in
-/// contact), an approximation for vertex and edge contacts.
-pub fn volume_law(law: &PairLaw, overlap: OverlapVolume, effective_radius: f64) -> (f64, f64, f64) {
+/// The volume law for polyhedra: an elastic foundation of stiffness k_v = E*/R* per unit
+/// depth and area (R* of the volume-equivalent spheres) spread over the surfaces in contact,
+/// W = (k_v/2) ∫ (φ_i + φ_j) dV (see `narrow_phase::clip::Winkler`). For a face contact the force
+/// is k_v V along the face normal at the overlap's centroid — the volume law of Eliáš 2014
+/// (Powder Technol. 264, 458) — and a face of area A is a linear spring of stiffness
+/// k_v A = E* A/R*, that of a column of the bodies' size. Being the gradient of W it conserves
+/// energy (Feng, Han & Owen 2012, CMAME 205–208, 169). Returns (force, tangent stiffness k_v A,
+/// energy k_v W, torque about the contact point).
+pub fn volume_law(
+    law: &PairLaw,
+    overlap: OverlapVolume,
+    effective_radius: f64,
+) -> (f64, f64, f64, DVec3) {
     let kv = law.effective_youngs_modulus / effective_radius;
-    let force = kv * overlap.volume;
-    let depth = if overlap.area > 0.0 {
-        overlap.volume / overlap.area
-    } else {
-        0.0
-    };
-    (force, kv * overlap.area, 0.5 * force * depth)
+    (
+        kv * overlap.load,
+        kv * overlap.area,
+        kv * overlap.potential,
+        kv * overlap.couple,
+    )
 }
 
 /// Normal force with viscous damping F_d = c √(m* S_n) dδ/dt (the form of Tsuji et al. 1992 for
 /// Hertz, of Cundall & Strack 1979 for the linear spring), cut off at zero so that a contact never
 /// pulls: the damping constant c of [`super::restitution`] accounts for the cut-off.
 pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
-    let ((elastic, stiffness, elastic_energy), c) = match k.overlap_volume {
-        Some(v) => (volume_law(law, v, k.effective_radius), law.damping_volume),
-        None => (elastic(law, k.overlap, k.effective_radius), law.damping),
+    let ((elastic, stiffness, elastic_energy), c, pressure_couple) = match k.overlap_volume {
+        Some(v) => {
+            let (force, stiffness, energy, pressure) = volume_law(law, v, k.effective_radius);
+            (
+                (force, stiffness, energy),
+                law.damping_volume,
+                -pressure * v.couple,
+            )
+        }
+        None => (
+            elastic(law, k.overlap, k.effective_radius),
+            law.damping,
+            DVec3::ZERO,
+        ),
     };
     let damping = c * (k.effective_mass * stiffness).sqrt() * k.overlap_rate;
+    let total = (elastic + damping).max(0.0);
     NormalForce {
         elastic,
-        total: (elastic + damping).max(0.0),
+        total,
         stiffness,
         elastic_energy,
+        // The pressure's moment, scaled with the force when damping or the no-tension cut-off
+        // change it (the pressure is then taken as scaled uniformly).
+        couple: if elastic > 0.0 {
+            pressure_couple * (total / elastic)
+        } else {
+            DVec3::ZERO
+        },
     }
 }

@@ -417,21 +417,132 @@ pub(crate) struct BoundarySums {
     pub vector_area_b: DVec3,
     /// Σ |area| over all polygons (a scale for round-off decisions).
     pub total_area: f64,
+    /// The elastic-foundation (Winkler) resultant per unit stiffness, see [`Winkler`].
+    pub winkler: Winkler,
+}
+
+/// Resultant of the elastic-foundation potential W = (k/2) ∫_{A∩B} (φ_A + φ_B) dV, per unit k,
+/// with φ_X(x) the depth of x below body X's surface. Moving A moves only A's surface through B's
+/// field (and B's surface through A's, by reaction), so the force on A is
+/// F = (k/2) [∫_{∂B∩A} φ_A n_B dA − ∫_{∂A∩B} φ_B n_A dA]: a pressure proportional to the local
+/// depth on each surface, as in an elastic foundation (Johnson 1985 §5.5). It gives k V along the
+/// face normal for a face contact, the rocking stiffness of a pressure that grows with depth, and
+/// — being the gradient of W — it conserves energy. The depth field of the other body is taken
+/// from its face plane nearest each boundary polygon's centroid, which is exact wherever the
+/// overlap lies under one face of each body (face, edge and vertex contacts on faces).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Winkler {
+    /// Force on A per unit k [m³] (V n for a face contact).
+    pub force: DVec3,
+    /// Torque on A about the overlap's centroid per unit k [m⁴].
+    pub couple: DVec3,
+    /// W per unit k [m⁴]: ½ V (φ_A + φ_B) at the centroid.
+    pub potential: f64,
+}
+
+/// ∫ φ dA and ∫ φ (x − r) dA over the convex polygon `corners` (normal `normal`), with
+/// φ(x) = min over `planes` of the depth of x behind the plane. φ is linear on the pieces where
+/// one plane gives the minimum: the polygon is cut into those pieces (by the planes' bisectors)
+/// and each linear piece integrated exactly over a fan of triangles, using
+/// ∫ φ x dA = A/12 (Σ φᵢ xᵢ + Σ φᵢ Σ xᵢ) on a triangle.
+fn depth_integrals(corners: &[DVec3], r: DVec3, normal: DVec3, planes: &[Plane]) -> (f64, DVec3) {
+    let depth = |p: &Plane, x: DVec3| -p.distance(x);
+    // A plane can be the minimum somewhere on the polygon only if its smallest depth over the
+    // corners (a linear function's minimum) is below the largest depth the minimum reaches,
+    // which is at most that of any single plane's largest corner depth.
+    let bound = planes
+        .iter()
+        .map(|p| {
+            corners
+                .iter()
+                .map(|&x| depth(p, x))
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let candidates: Vec<&Plane> = planes
+        .iter()
+        .filter(|p| {
+            corners
+                .iter()
+                .map(|&x| depth(p, x))
+                .fold(f64::INFINITY, f64::min)
+                <= bound
+        })
+        .collect();
+    let (mut phi_area, mut phi_moment) = (0.0, DVec3::ZERO);
+    let mut piece: Vec<DVec3> = Vec::with_capacity(corners.len() + 4);
+    let mut spare: Vec<DVec3> = Vec::with_capacity(corners.len() + 4);
+    for (i, f) in candidates.iter().enumerate() {
+        piece.clear();
+        piece.extend_from_slice(corners);
+        // Where f is the minimum: depth_f ≤ depth_g for every other candidate (ties to the
+        // first, so shared boundaries are counted once).
+        for (j, g) in candidates.iter().enumerate() {
+            if i == j || piece.len() < 3 {
+                continue;
+            }
+            let excess = |x: DVec3| {
+                let d = depth(f, x) - depth(g, x);
+                if j < i && d == 0.0 {
+                    f64::MIN_POSITIVE
+                } else {
+                    d
+                }
+            };
+            spare.clear();
+            let n = piece.len();
+            for k in 0..n {
+                let (a, b) = (piece[k], piece[(k + 1) % n]);
+                let (da, db) = (excess(a), excess(b));
+                if da <= 0.0 {
+                    spare.push(a);
+                }
+                if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+                    spare.push(a + (b - a) * (da / (da - db)));
+                }
+            }
+            std::mem::swap(&mut piece, &mut spare);
+        }
+        if piece.len() < 3 {
+            continue;
+        }
+        let q0 = piece[0] - r;
+        let phi0 = depth(f, piece[0]).max(0.0);
+        for w in piece[1..].windows(2) {
+            let (q1, q2) = (w[0] - r, w[1] - r);
+            let a = 0.5 * (q1 - q0).cross(q2 - q0).dot(normal);
+            let (phi1, phi2) = (depth(f, w[0]).max(0.0), depth(f, w[1]).max(0.0));
+            phi_area += a * (phi0 + phi1 + phi2) / 3.0;
+            phi_moment += a / 12.0
+                * (phi0 * q0 + phi1 * q1 + phi2 * q2 + (phi0 + phi1 + phi2) * (q0 + q1 + q2));
+        }
+    }
+    (phi_area, phi_moment)
 }
 
 /// Volume and centroid of the polyhedron bounded by the clipped polygons: the sum of the signed
 /// tetrahedra (r, p₀, pᵢ, pᵢ₊₁) over the fan of each polygon, with r the mean of all corners (close
 /// to the polyhedron, which keeps the tetrahedra small and the cancellation mild).
-pub(crate) fn boundary_sums(points: &[DVec3], polygons: &[ClippedPolygon]) -> BoundarySums {
+pub(crate) fn boundary_sums(
+    points: &[DVec3],
+    polygons: &[ClippedPolygon],
+    planes_a: &[Plane],
+    planes_b: &[Plane],
+) -> BoundarySums {
     let mut sums = BoundarySums::default();
     if points.is_empty() {
         return sums;
     }
     let r = points.iter().copied().sum::<DVec3>() / points.len() as f64;
     let mut moment = DVec3::ZERO;
+    // Σ ±∫ φ n dA and Σ ±∫ φ (x − r) × n dA, + on B's parts, − on A's (see `Winkler`).
+    let (mut load, mut couple_about_r) = (DVec3::ZERO, DVec3::ZERO);
     for poly in polygons {
         let corners = &points[poly.start..poly.end];
         let p0 = corners[0] - r;
+        // Depth below the other body's surface, φ = min over its faces of the depth below the
+        // face's plane: piecewise linear. Integrated exactly over the polygon's pieces.
+        let other = if poly.from_a { planes_b } else { planes_a };
         let mut doubled_area = DVec3::ZERO;
         for w in corners[1..].windows(2) {
             let (p1, p2) = (w[0] - r, w[1] - r);
@@ -440,6 +551,10 @@ pub(crate) fn boundary_sums(points: &[DVec3], polygons: &[ClippedPolygon]) -> Bo
             moment += six_v * (p0 + p1 + p2);
             doubled_area += (p1 - p0).cross(p2 - p0);
         }
+        let (phi_area, phi_moment) = depth_integrals(corners, r, poly.normal, other);
+        let sign = if poly.from_a { -0.5 } else { 0.5 };
+        load += sign * phi_area * poly.normal;
+        couple_about_r += sign * phi_moment.cross(poly.normal);
         let area = 0.5 * doubled_area.dot(poly.normal);
         sums.total_area += area.abs();
         if poly.from_a {
@@ -454,6 +569,20 @@ pub(crate) fn boundary_sums(points: &[DVec3], polygons: &[ClippedPolygon]) -> Bo
         r + moment / (4.0 * sums.volume)
     } else {
         r
+    };
+    let c = sums.centroid;
+    let depth_at = |planes: &[Plane]| {
+        planes
+            .iter()
+            .map(|p| -p.distance(c))
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0)
+    };
+    sums.winkler = Winkler {
+        force: load,
+        // About the centroid: M_c = M_r − (c − r) × F.
+        couple: couple_about_r - (c - r).cross(load),
+        potential: 0.5 * sums.volume / 6.0 * (depth_at(planes_a) + depth_at(planes_b)),
     };
     sums.volume /= 6.0;
     sums

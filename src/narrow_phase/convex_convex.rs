@@ -42,6 +42,12 @@ pub struct VolumeContact {
     pub area: f64,
     /// Mean penetration depth V / area [m].
     pub depth: f64,
+    /// Elastic-foundation force on A per unit stiffness [m³] (V n for a face contact), its torque
+    /// about the centroid [m⁴] and its potential [m⁴]: see `clip::Winkler`. A law k·(these) is
+    /// the gradient of a potential, so it conserves energy (Feng, Han & Owen 2012).
+    pub load: DVec3,
+    pub couple: DVec3,
+    pub potential: f64,
 }
 
 /// Below this fraction of the boundary's total area the vector area counts as zero (one body
@@ -76,7 +82,12 @@ pub fn convex_convex(
         return None;
     }
     scratch.clip_pair(a, b, tolerance);
-    let sums = boundary_sums(&scratch.points, &scratch.polygons);
+    let sums = boundary_sums(
+        &scratch.points,
+        &scratch.polygons,
+        &scratch.a.planes,
+        &scratch.b.planes,
+    );
     let volume = sums.volume;
     if volume.is_nan() || volume <= 0.0 {
         return None;
@@ -104,6 +115,9 @@ pub fn convex_convex(
         normal,
         area,
         depth,
+        load: sums.winkler.force,
+        couple: sums.winkler.couple,
+        potential: sums.winkler.potential,
     })
 }
 
@@ -350,7 +364,7 @@ pub(crate) mod tests {
             };
             tested += 1;
             // Closure of the boundary.
-            let sums = boundary_sums(&s.points, &s.polygons);
+            let sums = boundary_sums(&s.points, &s.polygons, &s.a.planes, &s.b.planes);
             assert!(
                 (sums.vector_area_a + sums.vector_area_b).length() < 1e-12 * sums.total_area,
                 "open boundary"

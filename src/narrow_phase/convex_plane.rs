@@ -98,12 +98,18 @@ pub fn convex_plane(
         return None;
     }
     let centroid_body = r + moment / (4.0 * six_volume);
+    // The wall is the foundation: W = k ∫ φ dV with φ the depth below the plane, linear, so
+    // W = k V φ(centroid) and its gradient is k V along the normal through the centroid.
+    let centroid_depth = -plane.distance(centroid_body);
     Some(VolumeContact {
         volume,
         centroid: xa + qa * centroid_body,
         normal,
         area,
         depth,
+        load: volume * normal,
+        couple: DVec3::ZERO,
+        potential: volume * centroid_depth,
     })
 }
 

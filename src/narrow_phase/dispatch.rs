@@ -77,14 +77,21 @@ pub fn effective_radius(a: &Shape, b: &Shape) -> f64 {
     }
 }
 
+/// The contact of a volume overlap. Its normal is the direction of the elastic-foundation force
+/// (the gradient of the law's energy); for an overlap under one face of a body it is that face's
+/// normal, as is the vector area's, and where the overlap meets several faces (crossing edges,
+/// corners) it is the direction that conserves energy.
 fn volume_geometry(c: VolumeContact) -> Geometry {
     Geometry {
-        normal: c.normal,
+        normal: c.load.try_normalize().unwrap_or(c.normal),
         point: c.centroid,
         overlap: c.depth,
         volume: Some(OverlapVolume {
             volume: c.volume,
             area: c.area,
+            load: c.load.length(),
+            couple: c.couple,
+            potential: c.potential,
         }),
     }
 }
