@@ -3,7 +3,7 @@
 use crate::body::{Bodies, BodyInit};
 use crate::broad_phase::{self, BroadPhase, Pair};
 use crate::contact::ContactList;
-use crate::contact_law::{self, Kinematics};
+use crate::contact_law::{self, Kinematics, PolyhedralLaw};
 use crate::energy::EnergyReport;
 use crate::integrate;
 use crate::material::{Material, PairTable};
@@ -47,6 +47,8 @@ pub struct World {
     pub dissipated: f64,
     /// Bodies whose centre leaves this box are removed (an open boundary); `None`: never.
     pub domain: Option<Aabb>,
+    /// The contact law of polyhedra (volume law by default).
+    pub polyhedral_law: PolyhedralLaw,
     /// Kinetic and potential energy brought in by bodies inserted during the run [J].
     pub energy_inserted: f64,
     /// Kinetic, potential and contact energy carried out by removed bodies [J].
@@ -90,6 +92,7 @@ impl World {
             plane_contacts: ContactList::default(),
             dissipated: 0.0,
             domain: None,
+            polyhedral_law: PolyhedralLaw::default(),
             energy_inserted: 0.0,
             energy_removed: 0.0,
             bodies_removed: 0,
@@ -284,6 +287,7 @@ impl World {
     }
 
     fn detect_contacts(&mut self) {
+        let law = self.polyhedral_law;
         let bodies = &self.bodies;
         let shapes = &self.shapes;
         let posed = |i: usize| narrow_phase::Posed {
@@ -297,7 +301,7 @@ impl World {
                 .par_iter()
                 .with_min_len(256)
                 .map_init(ClipScratch::default, |scratch, &(i, j)| {
-                    narrow_phase::body_body(posed(i as usize), posed(j as usize), scratch)
+                    narrow_phase::body_body(posed(i as usize), posed(j as usize), law, scratch)
                         .map(|g| (i, j, g))
                 })
                 .flatten(),
@@ -312,7 +316,7 @@ impl World {
                 .with_min_len(512)
                 .flat_map_iter(|a| {
                     planes.iter().enumerate().filter_map(move |(p, plane)| {
-                        narrow_phase::body_plane(posed(a), plane.point, plane.normal)
+                        narrow_phase::body_plane(posed(a), plane.point, plane.normal, law)
                             .map(|g| (a as u32, p as u32, g))
                     })
                 }),

@@ -72,9 +72,25 @@ pub struct Kinematics {
     pub overlap_volume: Option<OverlapVolume>,
 }
 
+/// Which law polyhedral contacts use (scene: `[contact] polyhedra`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PolyhedralLaw {
+    /// The elastic foundation over the overlap volume (`normal::volume_law`).
+    #[default]
+    Volume,
+    /// The seed paper's law: a spring at every vertex inside the other body, along the normal
+    /// of the face it penetrates (`normal::volume_law` with `points`).
+    Vertex,
+}
+
 /// The overlap of two polyhedra (or a polyhedron and a wall).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OverlapVolume {
+    /// The law this overlap is measured for.
+    pub law: PolyhedralLaw,
+    /// Vertex law: the number of penetrating points (each a spring).
+    pub points: usize,
     /// V [m³].
     pub volume: f64,
     /// Area of the overlap's cross-section normal to the contact normal, |S| [m²].

@@ -1,6 +1,6 @@
 //! Elastic normal force and normal damping.
 
-use super::{Kinematics, NormalLaw, OverlapVolume, PairLaw};
+use super::{Kinematics, NormalLaw, OverlapVolume, PairLaw, PolyhedralLaw};
 use crate::math::DVec3;
 
 /// Normal force of one contact, split into its elastic and damping parts.
@@ -55,17 +55,31 @@ pub fn elastic(law: &PairLaw, overlap: f64, effective_radius: f64) -> (f64, f64,
 /// k_v A = E* A/R*, that of a column of the bodies' size. Being the gradient of W it conserves
 /// energy (Feng, Han & Owen 2012, CMAME 205–208, 169). Returns (force, tangent stiffness k_v A,
 /// energy k_v W, torque about the contact point).
+///
+/// The vertex law (the seed's, Muth, Eberhard & Luding): a spring of stiffness k_p = E* R* at
+/// every point of one body inside the other, pushing along the normal of the face it penetrates
+/// by its depth; the overlap then carries Σ dᵢ nᵢ (load), its moment and ½ Σ dᵢ² (potential), and
+/// the tangent stiffness is k_p per point.
 pub fn volume_law(
     law: &PairLaw,
     overlap: OverlapVolume,
     effective_radius: f64,
 ) -> (f64, f64, f64, DVec3) {
-    let kv = law.effective_youngs_modulus / effective_radius;
+    let (k, stiffness) = match overlap.law {
+        PolyhedralLaw::Volume => {
+            let kv = law.effective_youngs_modulus / effective_radius;
+            (kv, kv * overlap.area)
+        }
+        PolyhedralLaw::Vertex => {
+            let kp = law.effective_youngs_modulus * effective_radius;
+            (kp, kp * overlap.points as f64)
+        }
+    };
     (
-        kv * overlap.load,
-        kv * overlap.area,
-        kv * overlap.potential,
-        kv * overlap.couple,
+        k * overlap.load,
+        stiffness,
+        k * overlap.potential,
+        k * overlap.couple,
     )
 }
 

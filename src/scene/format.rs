@@ -197,6 +197,9 @@ pub struct ContactSettings {
     pub stiffness: Option<f64>,
     #[serde(default = "default_tangential_ratio")]
     pub tangential_stiffness_ratio: f64,
+    /// Contact law of polyhedra: "volume" (default) or "vertex" (the seed paper's).
+    #[serde(default)]
+    pub polyhedra: crate::contact_law::PolyhedralLaw,
 }
 
 impl Default for ContactSettings {
@@ -205,6 +208,7 @@ impl Default for ContactSettings {
             normal: NormalModel::default(),
             stiffness: None,
             tangential_stiffness_ratio: default_tangential_ratio(),
+            polyhedra: Default::default(),
         }
     }
 }

@@ -333,6 +333,7 @@ impl Scene {
         for (init, _) in bodies {
             world.add_body(init);
         }
+        world.polyhedral_law = spec.contact.polyhedra;
         world.domain = spec
             .domain
             .as_ref()
@@ -559,8 +560,13 @@ impl Scene {
         for (i, j) in pairs {
             let ((a, key_a), (b, key_b)) = (&bodies[i as usize], &bodies[j as usize]);
             // The contact detection of the run itself: mean depth for polyhedra.
-            let overlap = crate::narrow_phase::body_body(posed(a), posed(b), &mut scratch)
-                .map_or(0.0, |g| g.overlap);
+            let overlap = crate::narrow_phase::body_body(
+                posed(a),
+                posed(b),
+                crate::contact_law::PolyhedralLaw::Volume,
+                &mut scratch,
+            )
+            .map_or(0.0, |g| g.overlap);
             let size = |b: &BodyInit| b.shape.equivalent_radius();
             let allowed = tolerance * size(a).min(size(b));
             if overlap > allowed {
