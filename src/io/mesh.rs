@@ -300,13 +300,8 @@ pub struct Welded {
 /// its own cell or one of the 26 around it. Merging into the first match (not clustering) keeps
 /// every kept vertex where the file put it and makes the result independent of hashing order.
 pub fn weld(vertices: &[DVec3], triangles: &[[usize; 3]], relative_tolerance: f64) -> Welded {
-    let (lo, hi) = triangles
-        .iter()
-        .flatten()
-        .map(|&i| vertices[i])
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
+    let crate::math::Aabb { min: lo, max: hi } =
+        crate::geometry::point_in_polyhedron::bounds_of(vertices, triangles);
     let tolerance = relative_tolerance * (hi - lo).length();
     // With a zero tolerance (all points equal, or none) only exact copies merge: one cell.
     let cell_of = |v: DVec3| -> [i64; 3] {

@@ -45,13 +45,8 @@ impl MassProperties {
                 });
             }
         }
-        let (lo, hi) = triangles
-            .iter()
-            .flatten()
-            .map(|&i| vertices[i])
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            });
+        let crate::math::Aabb { min: lo, max: hi } =
+            crate::geometry::point_in_polyhedron::bounds_of(vertices, triangles);
         if triangles.is_empty() {
             return Err(ShapeError::NonPositiveVolume {
                 volume: 0.0,
