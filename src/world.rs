@@ -68,6 +68,10 @@ pub struct World {
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     found: Vec<(u32, u32, Geometry)>,
+    /// One slot per candidate pair (or body and plane) for the narrow phase's answer.
+    detected: Vec<Option<Geometry>>,
+    velocity_end: Vec<DVec3>,
+    angular_velocity_end: Vec<DVec3>,
     forces_current: bool,
     pool: std::sync::Arc<rayon::ThreadPool>,
 }
@@ -107,6 +111,9 @@ impl World {
             boxes: Vec::new(),
             pairs: Vec::new(),
             found: Vec::new(),
+            detected: Vec::new(),
+            velocity_end: Vec::new(),
+            angular_velocity_end: Vec::new(),
             forces_current: false,
             pool,
         })
@@ -295,40 +302,63 @@ impl World {
             position: bodies.position[i],
             orientation: bodies.orientation[i],
         };
+        // Each candidate writes its own slot, then the contacts are gathered in pair order:
+        // deterministic, and no allocation once the buffers have grown.
+        let detected = &mut self.detected;
+        detected.clear();
+        detected.resize(self.pairs.len(), None);
+        detected
+            .par_iter_mut()
+            .zip(self.pairs.par_iter())
+            .with_min_len(256)
+            .for_each_init(ClipScratch::default, |scratch, (slot, &(i, j))| {
+                *slot = narrow_phase::body_body(posed(i as usize), posed(j as usize), law, scratch);
+            });
         self.found.clear();
-        self.found.par_extend(
+        self.found.extend(
             self.pairs
-                .par_iter()
-                .with_min_len(256)
-                .map_init(ClipScratch::default, |scratch, &(i, j)| {
-                    narrow_phase::body_body(posed(i as usize), posed(j as usize), law, scratch)
-                        .map(|g| (i, j, g))
-                })
-                .flatten(),
+                .iter()
+                .zip(detected.iter())
+                .filter_map(|(&(i, j), g)| g.map(|g| (i, j, g))),
         );
         self.dissipated += self.contacts.update(&self.found);
 
         let planes = &self.planes;
         self.found.clear();
-        self.found.par_extend(
-            (0..bodies.len())
-                .into_par_iter()
-                .with_min_len(512)
-                .flat_map_iter(|a| {
-                    planes.iter().enumerate().filter_map(move |(p, plane)| {
-                        narrow_phase::body_plane(posed(a), plane.point, plane.normal, law)
-                            .map(|g| (a as u32, p as u32, g))
-                    })
+        if !planes.is_empty() {
+            detected.clear();
+            detected.resize(bodies.len() * planes.len(), None);
+            detected
+                .par_chunks_mut(planes.len())
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(a, slots)| {
+                    for (slot, plane) in slots.iter_mut().zip(planes) {
+                        *slot = narrow_phase::body_plane(posed(a), plane.point, plane.normal, law);
+                    }
+                });
+            let per_body = planes.len();
+            self.found.extend(
+                detected.iter().enumerate().filter_map(|(k, g)| {
+                    g.map(|g| ((k / per_body) as u32, (k % per_body) as u32, g))
                 }),
-        );
+            );
+        }
         self.dissipated += self.plane_contacts.update(&self.found);
     }
 
     fn evaluate_contacts(&mut self, dt: f64) {
+        predict_end_velocities(
+            &self.bodies,
+            self.gravity,
+            0.5 * dt,
+            &mut self.velocity_end,
+            &mut self.angular_velocity_end,
+        );
         let motion = Motion {
             bodies: &self.bodies,
-            gravity: self.gravity,
-            half_step: 0.5 * dt,
+            velocity_end: &self.velocity_end,
+            angular_velocity_end: &self.angular_velocity_end,
         };
         let bodies = &self.bodies;
         let shapes = &self.shapes;
@@ -419,27 +449,47 @@ impl World {
 /// Velocities of body points at the moment contact forces are evaluated.
 struct Motion<'a> {
     bodies: &'a Bodies,
-    gravity: DVec3,
-    half_step: f64,
+    velocity_end: &'a [DVec3],
+    angular_velocity_end: &'a [DVec3],
 }
 
 impl Motion<'_> {
     /// Velocity of the body point at `point` over the step just taken (the half-step velocity),
-    /// and predicted at the end of the step by the first half-kick's forces, which are still in
-    /// the force arrays (v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2).
+    /// and predicted at the end of the step (see [`predict_end_velocities`]).
     fn at(&self, body: usize, point: DVec3) -> (DVec3, DVec3) {
         let b = self.bodies;
-        let h = self.half_step;
         let arm = point - b.position[body];
         let now = b.velocity[body] + b.angular_velocity[body].cross(arm);
-        let velocity_end = b.velocity[body] + (b.force[body] * b.inv_mass[body] + self.gravity) * h;
-        let omega_end = integrate::rotation::angular_velocity(
-            b.orientation[body],
-            b.angular_momentum[body] + b.torque[body] * h,
-            b.inv_inertia[body],
-        );
-        (now, velocity_end + omega_end.cross(arm))
+        let end = self.velocity_end[body] + self.angular_velocity_end[body].cross(arm);
+        (now, end)
     }
+}
+
+/// Velocities at the end of the step predicted from the first half-kick's forces, which are
+/// still in the force arrays: v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2, and likewise for ω. Once per
+/// body, not once per contact.
+fn predict_end_velocities(
+    b: &Bodies,
+    gravity: DVec3,
+    half_step: f64,
+    velocity_end: &mut Vec<DVec3>,
+    angular_velocity_end: &mut Vec<DVec3>,
+) {
+    velocity_end.resize(b.len(), DVec3::ZERO);
+    angular_velocity_end.resize(b.len(), DVec3::ZERO);
+    velocity_end
+        .par_iter_mut()
+        .zip(angular_velocity_end.par_iter_mut())
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(i, (v, w))| {
+            *v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + gravity) * half_step;
+            *w = integrate::rotation::angular_velocity(
+                b.orientation[i],
+                b.angular_momentum[i] + b.torque[i] * half_step,
+                b.inv_inertia[i],
+            );
+        });
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points.
