@@ -1,5 +1,9 @@
 //! Walls: fixed geometry that bodies collide with.
 
+pub mod generators;
+mod mesh;
 mod plane;
 
+pub use generators::{Ends, Facing, GeneratorError, Hand, Screw, TriMesh};
+pub use mesh::{Feature, MeshWall, MeshWallError};
 pub use plane::Plane;
