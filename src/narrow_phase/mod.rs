@@ -8,6 +8,7 @@ mod convex_plane;
 mod convex_sphere;
 mod dispatch;
 pub mod separation;
+mod sphere_mesh;
 mod sphere_plane;
 mod sphere_sphere;
 mod vertex_penetration;
@@ -17,6 +18,10 @@ pub use convex_convex::{convex_convex, VolumeContact};
 pub use convex_plane::convex_plane;
 pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
 pub use dispatch::{body_body, body_plane, effective_radius, Posed};
+pub use sphere_mesh::{
+    closest_point_on_triangle, sphere_mesh, sphere_mesh_contacts, MeshContact, MeshScratch,
+    TriangleRegion,
+};
 pub use sphere_plane::sphere_plane;
 pub use sphere_sphere::sphere_sphere;
 pub use vertex_penetration::{vertex_penetration, PenetratingPoint, PenetrationSet, PointKind};

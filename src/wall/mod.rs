@@ -5,5 +5,5 @@ mod mesh;
 mod plane;
 
 pub use generators::{Ends, Facing, GeneratorError, Hand, Screw, TriMesh};
-pub use mesh::{Feature, MeshWall, MeshWallError};
+pub use mesh::{Feature, MeshWall, MeshWallError, DEFAULT_SMOOTH_ANGLE};
 pub use plane::Plane;
