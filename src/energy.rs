@@ -33,7 +33,7 @@ impl EnergyReport {
             dissipated: world.dissipated,
             removed: world.energy_removed,
             inserted: world.energy_inserted,
-            contacts: world.contacts.len() + world.plane_contacts.len(),
+            contacts: world.contacts.len() + world.plane_contacts.len() + world.mesh_contacts.len(),
             ..Self::default()
         };
         for i in 0..b.len() {
@@ -50,6 +50,7 @@ impl EnergyReport {
             .contacts
             .iter()
             .chain(&world.plane_contacts.contacts)
+            .chain(&world.mesh_contacts.contacts)
         {
             report.elastic += c.response.elastic_energy;
         }

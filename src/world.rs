@@ -8,10 +8,16 @@ use crate::energy::EnergyReport;
 use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
-use crate::narrow_phase::{self, ClipScratch, Geometry};
+use crate::narrow_phase::{self, ClipScratch, Geometry, MeshScratch};
 use crate::shape::Shape;
+use crate::wall::MeshWall;
 use crate::wall::Plane;
 use rayon::prelude::*;
+use std::f64::consts::FRAC_1_SQRT_2;
+
+/// Contacts one body can have with one mesh wall at a time (distinct regions, e.g. the faces of a
+/// corner it sits in).
+pub const MESH_REGIONS: usize = 4;
 
 /// Everything about a world except its bodies.
 pub struct WorldConfig {
@@ -43,6 +49,11 @@ pub struct World {
     pub contacts: ContactList,
     /// Body–plane contacts, `a` the body, `b` the plane.
     pub plane_contacts: ContactList,
+    /// Triangle-mesh walls (spheres only so far).
+    pub mesh_walls: Vec<MeshWall>,
+    /// Body–mesh contacts, `a` the body, `b` = wall × [`MESH_REGIONS`] + region: a body can
+    /// touch one wall in several places (a corner), each a contact with its own history.
+    pub mesh_contacts: ContactList,
     /// Energy taken out by damping, sliding and rolling resistance since the start [J].
     pub dissipated: f64,
     /// Bodies whose centre leaves this box are removed (an open boundary); `None`: never.
@@ -68,7 +79,8 @@ pub struct World {
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     found: Vec<(u32, u32, Geometry)>,
-    /// One slot per candidate pair (or body and plane) for the narrow phase's answer.
+    /// One slot per candidate pair (or body and plane, or body, mesh wall and region) for the
+    /// narrow phase's answer.
     detected: Vec<Option<Geometry>>,
     velocity_end: Vec<DVec3>,
     angular_velocity_end: Vec<DVec3>,
@@ -94,6 +106,8 @@ impl World {
             planes: config.planes,
             contacts: ContactList::default(),
             plane_contacts: ContactList::default(),
+            mesh_walls: Vec::new(),
+            mesh_contacts: ContactList::default(),
             dissipated: 0.0,
             domain: None,
             polyhedral_law: PolyhedralLaw::default(),
@@ -173,6 +187,7 @@ impl World {
         }
         self.energy_removed += self.contacts.renumber(&new_index, true);
         self.energy_removed += self.plane_contacts.renumber(&new_index, false);
+        self.energy_removed += self.mesh_contacts.renumber(&new_index, false);
         self.bodies.retain(keep);
         self.structure_changed();
     }
@@ -345,6 +360,97 @@ impl World {
             );
         }
         self.dissipated += self.plane_contacts.update(&self.found);
+        self.detect_mesh_contacts();
+    }
+
+    /// Contacts of spheres with mesh walls. A sphere may touch a wall in up to [`MESH_REGIONS`]
+    /// places; each keeps its history from step to step by following its normal: a region takes
+    /// the slot of last step's region of that body and wall whose normal is closest (within
+    /// 45°), so a sphere rolling across triangles keeps its friction spring.
+    fn detect_mesh_contacts(&mut self) {
+        self.found.clear();
+        let walls = &self.mesh_walls;
+        if walls.is_empty() {
+            self.dissipated += self.mesh_contacts.update(&self.found);
+            return;
+        }
+        let bodies = &self.bodies;
+        let shapes = &self.shapes;
+        let per_body = walls.len() * MESH_REGIONS;
+        let detected = &mut self.detected;
+        detected.clear();
+        detected.resize(bodies.len() * per_body, None);
+        detected
+            .par_chunks_mut(per_body)
+            .enumerate()
+            .with_min_len(64)
+            .for_each_init(
+                || (MeshScratch::default(), Vec::new()),
+                |(scratch, out), (i, slots)| {
+                    let Shape::Sphere(sphere) = &shapes[bodies.shape[i] as usize] else {
+                        return;
+                    };
+                    let (x, r) = (bodies.position[i], sphere.radius);
+                    let reach = Aabb::around_sphere(x, r);
+                    for (w, wall) in walls.iter().enumerate() {
+                        if !wall.bounds().overlaps(&reach) {
+                            continue;
+                        }
+                        narrow_phase::sphere_mesh_contacts(x, r, wall, scratch, out);
+                        for (slot, c) in slots[w * MESH_REGIONS..(w + 1) * MESH_REGIONS]
+                            .iter_mut()
+                            .zip(out.iter())
+                        {
+                            *slot = Some(c.geometry);
+                        }
+                    }
+                },
+            );
+        // Give each region the slot of the matching region of the last step.
+        let previous = &self.mesh_contacts.contacts;
+        let mut cursor = 0;
+        for (i, slots) in detected.chunks(per_body).enumerate() {
+            while cursor < previous.len() && (previous[cursor].a as usize) < i {
+                cursor += 1;
+            }
+            let start = cursor;
+            while cursor < previous.len() && previous[cursor].a as usize == i {
+                cursor += 1;
+            }
+            let before = &previous[start..cursor];
+            let first = self.found.len();
+            for (w, regions) in slots.chunks(MESH_REGIONS).enumerate() {
+                let key = |slot: usize| (w * MESH_REGIONS + slot) as u32;
+                let mut used = [false; MESH_REGIONS];
+                let mut pending = [None; MESH_REGIONS];
+                for (k, g) in regions.iter().enumerate() {
+                    let Some(g) = g else { continue };
+                    let matched = before
+                        .iter()
+                        .filter(|c| (c.b as usize) / MESH_REGIONS == w)
+                        .map(|c| (c.b as usize % MESH_REGIONS, c.geometry.normal.dot(g.normal)))
+                        .filter(|&(slot, cos)| !used[slot] && cos > FRAC_1_SQRT_2)
+                        .max_by(|p, q| p.1.total_cmp(&q.1))
+                        .map(|(slot, _)| slot);
+                    if let Some(slot) = matched {
+                        used[slot] = true;
+                        self.found.push((i as u32, key(slot), *g));
+                    } else {
+                        pending[k] = Some(*g);
+                    }
+                }
+                for g in pending.into_iter().flatten() {
+                    let slot = used
+                        .iter()
+                        .position(|u| !u)
+                        .expect("as many slots as regions");
+                    used[slot] = true;
+                    self.found.push((i as u32, key(slot), g));
+                }
+            }
+            self.found[first..].sort_by_key(|&(_, b, _)| b);
+        }
+        self.dissipated += self.mesh_contacts.update(&self.found);
     }
 
     fn evaluate_contacts(&mut self, dt: f64) {
@@ -391,24 +497,31 @@ impl World {
                 c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
             });
         let planes = &self.planes;
+        let walls = &self.mesh_walls;
+        let wall_contact = |c: &mut crate::contact::Contact, wall_material: u32| {
+            let a = c.a as usize;
+            let (va, va_end) = motion.at(a, c.geometry.point);
+            let k = kinematics(
+                &c.geometry,
+                va,
+                va_end,
+                bodies.angular_velocity[a],
+                bodies.equivalent_radius[a],
+                bodies.mass[a],
+            );
+            let law = laws.get(bodies.material[a], wall_material);
+            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+        };
         self.plane_contacts
             .contacts
             .par_iter_mut()
             .with_min_len(256)
-            .for_each(|c| {
-                let a = c.a as usize;
-                let (va, va_end) = motion.at(a, c.geometry.point);
-                let k = kinematics(
-                    &c.geometry,
-                    va,
-                    va_end,
-                    bodies.angular_velocity[a],
-                    bodies.equivalent_radius[a],
-                    bodies.mass[a],
-                );
-                let law = laws.get(bodies.material[a], planes[c.b as usize].material);
-                c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
-            });
+            .for_each(|c| wall_contact(c, planes[c.b as usize].material));
+        self.mesh_contacts
+            .contacts
+            .par_iter_mut()
+            .with_min_len(256)
+            .for_each(|c| wall_contact(c, walls[c.b as usize / MESH_REGIONS].material));
     }
 
     /// Sums contact forces onto bodies, in contact order so the sums do not depend on threads.
@@ -426,7 +539,12 @@ impl World {
             b.torque[j] -= (p - b.position[j]).cross(f) + c.response.torque;
             self.dissipated += c.response.dissipated;
         }
-        for c in &self.plane_contacts.contacts {
+        for c in self
+            .plane_contacts
+            .contacts
+            .iter()
+            .chain(&self.mesh_contacts.contacts)
+        {
             let i = c.a as usize;
             let f = c.response.force;
             b.force[i] += f;

@@ -164,6 +164,15 @@ impl RunOutput {
             mesh.polygons.push((first..first + 4).collect());
             mesh.cell_ids.push(n as u32);
         }
+        // Mesh walls follow the planes in the `wall` numbering.
+        for (n, wall) in world.mesh_walls.iter().enumerate() {
+            let first = mesh.vertices.len() as u32;
+            mesh.vertices.extend_from_slice(wall.vertices());
+            for t in wall.triangles() {
+                mesh.polygons.push(t.iter().map(|&v| first + v).collect());
+                mesh.cell_ids.push((world.planes.len() + n) as u32);
+            }
+        }
         mesh
     }
 }
@@ -207,7 +216,12 @@ fn force_network(world: &World) -> ForceNetwork {
     for c in &world.contacts.contacts {
         line(b.position[c.a as usize], b.position[c.b as usize], c, 0);
     }
-    for c in &world.plane_contacts.contacts {
+    for c in world
+        .plane_contacts
+        .contacts
+        .iter()
+        .chain(&world.mesh_contacts.contacts)
+    {
         line(b.position[c.a as usize], c.geometry.point, c, 1);
     }
     network
