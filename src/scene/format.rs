@@ -17,6 +17,8 @@ pub struct SceneFile {
     pub pairs: Vec<PairSpec>,
     #[serde(default, rename = "plane")]
     pub planes: Vec<PlaneSpec>,
+    #[serde(default, rename = "mesh_wall")]
+    pub mesh_walls: Vec<MeshWallSpec>,
     #[serde(default, rename = "particle")]
     pub particles: Vec<ParticleSpec>,
     #[serde(default, rename = "insert")]
@@ -245,6 +247,116 @@ pub struct PlaneSpec {
     pub point: Vec3,
     pub normal: Vec3,
     pub material: String,
+}
+
+/// A triangle-mesh wall: from a mesh file or a generator, then scaled, rotated and moved.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshWallSpec {
+    pub material: String,
+    /// STL or OBJ file, relative to the scene file's folder.
+    pub file: Option<String>,
+    pub generator: Option<WallGenerator>,
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    /// Axis times angle [rad].
+    #[serde(default)]
+    pub rotation: Vec3,
+    #[serde(default)]
+    pub translation: Vec3,
+}
+
+/// Which side of a generated wall bodies are on.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FacingSpec {
+    #[default]
+    Inward,
+    Outward,
+}
+
+/// Built-in wall meshes (sizes in metres, before `scale`).
+#[derive(Debug, Deserialize, Clone, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum WallGenerator {
+    /// The parallelogram origin + s u + t v, divided into cells of two triangles; bodies on the
+    /// side of u × v.
+    Rectangle {
+        origin: Vec3,
+        u: Vec3,
+        v: Vec3,
+        #[serde(default = "one_by_one")]
+        divisions: [usize; 2],
+    },
+    /// A closed box.
+    Box {
+        min: Vec3,
+        max: Vec3,
+        #[serde(default = "one")]
+        divisions: usize,
+        #[serde(default)]
+        facing: FacingSpec,
+    },
+    /// A cylinder along z from 0 to `height`, open (a tube) or closed (a drum).
+    Cylinder {
+        radius: f64,
+        height: f64,
+        #[serde(default = "segments")]
+        segments: usize,
+        #[serde(default = "one")]
+        rings: usize,
+        #[serde(default)]
+        closed: bool,
+        #[serde(default)]
+        facing: FacingSpec,
+    },
+    /// A cone frustum along z (a hopper with an outlet when open).
+    Frustum {
+        bottom_radius: f64,
+        top_radius: f64,
+        height: f64,
+        #[serde(default = "segments")]
+        segments: usize,
+        #[serde(default = "one")]
+        rings: usize,
+        #[serde(default)]
+        closed: bool,
+        #[serde(default)]
+        facing: FacingSpec,
+    },
+    /// A helical screw flight along z with an optional shaft and tube.
+    Screw {
+        shaft_radius: f64,
+        flight_radius: f64,
+        pitch: f64,
+        turns: f64,
+        thickness: f64,
+        #[serde(default)]
+        left_handed: bool,
+        #[serde(default = "segments")]
+        segments_per_turn: usize,
+        #[serde(default = "four")]
+        radial_segments: usize,
+        #[serde(default = "yes")]
+        shaft: bool,
+        tube_clearance: Option<f64>,
+    },
+}
+
+fn one() -> usize {
+    1
+}
+
+fn four() -> usize {
+    4
+}
+
+fn segments() -> usize {
+    48
+}
+
+fn one_by_one() -> [usize; 2] {
+    [1, 1]
 }
 
 #[derive(Debug, Deserialize)]

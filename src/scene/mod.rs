@@ -11,6 +11,7 @@ pub mod format;
 pub mod insert;
 pub mod shapes;
 mod validate;
+pub mod walls;
 
 pub use error::{KeyPath, SceneError};
 
@@ -291,9 +292,14 @@ impl Scene {
             });
         }
 
+        let mesh_walls = walls::build(self)?;
         let shapes = shapes::build(self)?;
+        if !mesh_walls.is_empty() {
+            self.refuse_polyhedra_with_mesh_walls(&shapes)?;
+        }
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes))?;
         self.check_initial_overlaps(&bodies, &planes)?;
+        self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
         let mut schedule = Vec::new();
         for (index, i) in spec.insertions.iter().enumerate() {
             if i.time > 0.0 || i.every.is_some() {
@@ -334,6 +340,7 @@ impl Scene {
             world.add_body(init);
         }
         world.polyhedral_law = spec.contact.polyhedra;
+        world.mesh_walls = mesh_walls;
         world.domain = spec
             .domain
             .as_ref()
@@ -361,7 +368,12 @@ impl Scene {
             let mass = density * shape.unit_mass_properties().volume;
             candidate(&shape, mass, s.material)
         });
-        let wall_materials: Vec<u32> = world.planes.iter().map(|p| p.material).collect();
+        let wall_materials: Vec<u32> = world
+            .planes
+            .iter()
+            .map(|p| p.material)
+            .chain(world.mesh_walls.iter().map(|w| w.material))
+            .collect();
         let conditions = timestep::Conditions {
             materials: &world.materials,
             wall_materials: &wall_materials,
@@ -537,6 +549,69 @@ impl Scene {
                 .cloned()
         })
         .transpose()
+    }
+
+    /// Mesh walls collide with spheres only so far: a scene that would put a polyhedron next to
+    /// one is refused rather than letting it pass through.
+    fn refuse_polyhedra_with_mesh_walls(
+        &self,
+        shapes: &BTreeMap<String, shapes::BuiltShape>,
+    ) -> Result<(), SceneError> {
+        let polyhedral = |name: &Option<String>| {
+            name.as_ref()
+                .and_then(|n| shapes.get(n))
+                .is_some_and(|b| matches!(b.shape, Shape::Convex(_)))
+        };
+        let offender = self
+            .spec
+            .particles
+            .iter()
+            .position(|p| polyhedral(&p.shape))
+            .map(|n| KeyPath::entry("particle", n).key("shape"))
+            .or_else(|| {
+                self.spec
+                    .insertions
+                    .iter()
+                    .position(|i| polyhedral(&i.shape))
+                    .map(|n| KeyPath::entry("insert", n).key("shape"))
+            });
+        match offender {
+            Some(key) => Err(self.error(
+                key,
+                "polyhedral particles cannot meet [[mesh_wall]]s yet (spheres can); use                  [[plane]] walls with polyhedra for now",
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Refuses spheres that start overlapping a mesh wall by more than the tolerance.
+    fn check_mesh_wall_overlaps(
+        &self,
+        bodies: &[(BodyInit, KeyPath)],
+        walls: &[crate::wall::MeshWall],
+    ) -> Result<(), SceneError> {
+        let tolerance = self.spec.simulation.initial_overlap_tolerance;
+        for (b, key) in bodies {
+            let Shape::Sphere(s) = &b.shape else { continue };
+            for (n, wall) in walls.iter().enumerate() {
+                let deepest = crate::narrow_phase::sphere_mesh(b.position, s.radius, wall)
+                    .iter()
+                    .map(|g| g.overlap)
+                    .fold(0.0, f64::max);
+                if deepest > tolerance * s.radius {
+                    return Err(self.error(
+                        key.clone(),
+                        format!(
+                            "the particle at {:?} overlaps [[mesh_wall]] #{} by {deepest:.3e} m; \
+                             move it to the side the wall faces",
+                            b.position.to_array(),
+                            n + 1
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Refuses a start in which bodies overlap each other or a wall by more than the tolerance:

@@ -99,6 +99,12 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
             ));
         }
     }
+    for (n, w) in s.mesh_walls.iter().enumerate() {
+        let key = |k: &str| KeyPath::entry("mesh_wall", n).key(k);
+        c.positive(key("scale"), w.scale, "(factor)")?;
+        c.vector(key("rotation"), w.rotation)?;
+        c.vector(key("translation"), w.translation)?;
+    }
     for (n, p) in s.particles.iter().enumerate() {
         let key = |k: &str| KeyPath::entry("particle", n).key(k);
         if let Some(radius) = p.radius {
