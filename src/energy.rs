@@ -22,6 +22,8 @@ pub struct EnergyReport {
     pub removed: f64,
     /// Energy brought in by bodies inserted during the run [J].
     pub inserted: f64,
+    /// Work done on the bodies by moving walls and belt surfaces since the start [J].
+    pub wall_work: f64,
     /// Body–body plus body–wall contacts.
     pub contacts: usize,
 }
@@ -33,6 +35,7 @@ impl EnergyReport {
             dissipated: world.dissipated,
             removed: world.energy_removed,
             inserted: world.energy_inserted,
+            wall_work: world.wall_work,
             contacts: world.contacts.len() + world.plane_contacts.len() + world.mesh_contacts.len(),
             ..Self::default()
         };
@@ -57,8 +60,8 @@ impl EnergyReport {
         report
     }
 
-    /// Kinetic + potential + elastic + dissipated + carried out − brought in: constant up to
-    /// integration error.
+    /// Kinetic + potential + elastic + dissipated + carried out − brought in (by inserted bodies
+    /// and by the work of moving walls): constant up to integration error.
     pub fn total(&self) -> f64 {
         self.kinetic_translational
             + self.kinetic_rotational
@@ -67,5 +70,6 @@ impl EnergyReport {
             + self.dissipated
             + self.removed
             - self.inserted
+            - self.wall_work
     }
 }

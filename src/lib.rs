@@ -10,6 +10,7 @@ pub mod broad_phase;
 pub mod contact;
 pub mod contact_law;
 pub mod energy;
+pub mod flow;
 pub mod geometry;
 pub mod integrate;
 pub mod io;

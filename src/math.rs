@@ -38,6 +38,11 @@ impl Aabb {
         Self::new(self.min - m, self.max + m)
     }
 
+    /// True when `p` is inside or on the box.
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
     pub fn extent(&self) -> DVec3 {
         self.max - self.min
     }

@@ -5,6 +5,7 @@ use crate::broad_phase::{self, BroadPhase, Pair};
 use crate::contact::ContactList;
 use crate::contact_law::{self, Kinematics, PolyhedralLaw};
 use crate::energy::EnergyReport;
+use crate::flow::FlowMeter;
 use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
@@ -49,7 +50,7 @@ pub struct World {
     pub contacts: ContactList,
     /// Body–plane contacts, `a` the body, `b` the plane.
     pub plane_contacts: ContactList,
-    /// Triangle-mesh walls (spheres only so far).
+    /// Triangle-mesh walls, fixed or moving (spheres only so far).
     pub mesh_walls: Vec<MeshWall>,
     /// Body–mesh contacts, `a` the body, `b` = wall × [`MESH_REGIONS`] + region: a body can
     /// touch one wall in several places (a corner), each a contact with its own history.
@@ -66,6 +67,21 @@ pub struct World {
     pub energy_removed: f64,
     /// Bodies removed so far.
     pub bodies_removed: u64,
+    /// Work done on the bodies by moving walls (and belt surfaces) since the start [J]: the
+    /// energy they bring in.
+    pub wall_work: f64,
+    /// Time integral of the contact force on each wall since the start [N s]: planes first,
+    /// then mesh walls (the numbering of the `wall` field in the output).
+    pub wall_impulse: Vec<DVec3>,
+    /// Time integral of the torque on each wall about its reference point (the rotation axis
+    /// point of a mesh wall, the point of a plane) [N m s].
+    pub wall_angular_impulse: Vec<DVec3>,
+    /// Counters of the mass that crosses a plane or leaves a region.
+    pub flow_meters: Vec<FlowMeter>,
+    /// Time the mesh walls' poses are at.
+    wall_time: f64,
+    /// Power of the wall forces at the last evaluation (for the trapezoidal work integral).
+    wall_power: f64,
     next_id: u64,
     broad_phase_method: broad_phase::Method,
     /// See [`WorldConfig::skin`]; `None` until bodies exist to size it from.
@@ -114,6 +130,12 @@ impl World {
             energy_inserted: 0.0,
             energy_removed: 0.0,
             bodies_removed: 0,
+            wall_work: 0.0,
+            wall_impulse: Vec::new(),
+            wall_angular_impulse: Vec::new(),
+            flow_meters: Vec::new(),
+            wall_time: 0.0,
+            wall_power: 0.0,
             next_id: 0,
             broad_phase_method: config.broad_phase,
             skin_setting: config.skin,
@@ -255,16 +277,29 @@ impl World {
     /// phase, narrow phase, contact laws, force accumulation, half kick with the new forces.
     fn advance(&mut self) {
         if !self.forces_current {
+            self.move_walls_to(self.time);
             self.update_forces(0.0);
         }
         let dt = self.time_step;
         integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
         integrate::drift(&mut self.bodies, dt);
+        for meter in &mut self.flow_meters {
+            meter.record(&self.bodies, dt);
+        }
+        self.move_walls_to(self.time + dt);
         self.update_forces(dt);
         integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
         self.remove_bodies_outside_domain();
         self.time += dt;
         self.steps_done += 1;
+    }
+
+    /// Puts the moving mesh walls where they are at time `t`.
+    fn move_walls_to(&mut self, t: f64) {
+        self.wall_time = t;
+        for wall in &mut self.mesh_walls {
+            wall.set_time(t);
+        }
     }
 
     /// Runs the contact pipeline at the current positions: who is near whom, who touches whom,
@@ -273,7 +308,7 @@ impl World {
         self.find_candidate_pairs();
         self.detect_contacts();
         self.evaluate_contacts(dt);
-        self.accumulate_forces();
+        self.accumulate_forces(dt);
         self.forces_current = true;
     }
 
@@ -390,10 +425,13 @@ impl World {
                     let Shape::Sphere(sphere) = &shapes[bodies.shape[i] as usize] else {
                         return;
                     };
-                    let (x, r) = (bodies.position[i], sphere.radius);
-                    let reach = Aabb::around_sphere(x, r);
+                    let r = sphere.radius;
                     for (w, wall) in walls.iter().enumerate() {
-                        if !wall.bounds().overlaps(&reach) {
+                        // A moving wall is searched in its reference placement, with the body
+                        // taken there; the contacts are brought back to the world.
+                        let pose = wall.pose();
+                        let x = pose.to_reference(bodies.position[i]);
+                        if !wall.bounds().overlaps(&Aabb::around_sphere(x, r)) {
                             continue;
                         }
                         narrow_phase::sphere_mesh_contacts(x, r, wall, scratch, out);
@@ -401,7 +439,7 @@ impl World {
                             .iter_mut()
                             .zip(out.iter())
                         {
-                            *slot = Some(c.geometry);
+                            *slot = Some(c.geometry.moved(&pose));
                         }
                     }
                 },
@@ -498,34 +536,53 @@ impl World {
             });
         let planes = &self.planes;
         let walls = &self.mesh_walls;
-        let wall_contact = |c: &mut crate::contact::Contact, wall_material: u32| {
-            let a = c.a as usize;
-            let (va, va_end) = motion.at(a, c.geometry.point);
-            let k = kinematics(
-                &c.geometry,
-                va,
-                va_end,
-                bodies.angular_velocity[a],
-                bodies.equivalent_radius[a],
-                bodies.mass[a],
-            );
-            let law = laws.get(bodies.material[a], wall_material);
-            c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
-        };
+        // `wall`: the wall's surface velocity at the contact point over the step and at its end,
+        // and its angular velocity.
+        let wall_contact =
+            |c: &mut crate::contact::Contact, wall_material: u32, wall: [DVec3; 3]| {
+                let a = c.a as usize;
+                let (va, va_end) = motion.at(a, c.geometry.point);
+                let k = kinematics(
+                    &c.geometry,
+                    va - wall[0],
+                    va_end - wall[1],
+                    bodies.angular_velocity[a] - wall[2],
+                    bodies.equivalent_radius[a],
+                    bodies.mass[a],
+                );
+                let law = laws.get(bodies.material[a], wall_material);
+                c.response = contact_law::evaluate(law, &k, &mut c.history, dt);
+            };
         self.plane_contacts
             .contacts
             .par_iter_mut()
             .with_min_len(256)
-            .for_each(|c| wall_contact(c, planes[c.b as usize].material));
+            .for_each(|c| wall_contact(c, planes[c.b as usize].material, [DVec3::ZERO; 3]));
+        let (now, end) = (self.wall_time - 0.5 * dt, self.wall_time);
         self.mesh_contacts
             .contacts
             .par_iter_mut()
             .with_min_len(256)
-            .for_each(|c| wall_contact(c, walls[c.b as usize / MESH_REGIONS].material));
+            .for_each(|c| {
+                let wall = &walls[c.b as usize / MESH_REGIONS];
+                let m = &wall.motion;
+                let (p, n) = (c.geometry.point, c.geometry.normal);
+                let velocity = if m.is_fixed() {
+                    [DVec3::ZERO; 3]
+                } else {
+                    [
+                        m.surface_velocity_at(now, p, n),
+                        m.surface_velocity_at(end, p, n),
+                        m.angular_velocity(),
+                    ]
+                };
+                wall_contact(c, wall.material, velocity)
+            });
     }
 
-    /// Sums contact forces onto bodies, in contact order so the sums do not depend on threads.
-    fn accumulate_forces(&mut self) {
+    /// Sums contact forces onto bodies, in contact order so the sums do not depend on threads;
+    /// books the walls' impulses and the work of moving walls over the step `dt`.
+    fn accumulate_forces(&mut self, dt: f64) {
         let b = &mut self.bodies;
         b.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
         b.torque.iter_mut().for_each(|t| *t = DVec3::ZERO);
@@ -539,18 +596,43 @@ impl World {
             b.torque[j] -= (p - b.position[j]).cross(f) + c.response.torque;
             self.dissipated += c.response.dissipated;
         }
-        for c in self
+        let walls = self.planes.len() + self.mesh_walls.len();
+        self.wall_impulse.resize(walls, DVec3::ZERO);
+        self.wall_angular_impulse.resize(walls, DVec3::ZERO);
+        let mut power = 0.0;
+        let contacts = self
             .plane_contacts
             .contacts
             .iter()
-            .chain(&self.mesh_contacts.contacts)
-        {
+            .map(|c| (c, c.b as usize));
+        let mesh_contacts = self
+            .mesh_contacts
+            .contacts
+            .iter()
+            .map(|c| (c, self.planes.len() + c.b as usize / MESH_REGIONS));
+        for (c, w) in contacts.chain(mesh_contacts) {
             let i = c.a as usize;
-            let f = c.response.force;
+            let (f, p) = (c.response.force, c.geometry.point);
             b.force[i] += f;
-            b.torque[i] += (c.geometry.point - b.position[i]).cross(f) + c.response.torque;
+            b.torque[i] += (p - b.position[i]).cross(f) + c.response.torque;
             self.dissipated += c.response.dissipated;
+            let centre = match w.checked_sub(self.planes.len()) {
+                None => self.planes[w].point,
+                Some(m) => {
+                    let motion = &self.mesh_walls[m].motion;
+                    if !motion.is_fixed() {
+                        let v = motion.surface_velocity_at(self.wall_time, p, c.geometry.normal);
+                        power += f.dot(v) + c.response.torque.dot(motion.angular_velocity());
+                    }
+                    motion.reference_point(self.wall_time)
+                }
+            };
+            self.wall_impulse[w] -= f * dt;
+            self.wall_angular_impulse[w] -= ((p - centre).cross(f) + c.response.torque) * dt;
         }
+        // Trapezoidal rule over the step; a fresh evaluation (dt = 0) only sets the start value.
+        self.wall_work += 0.5 * dt * (self.wall_power + power);
+        self.wall_power = power;
     }
 
     /// The energy ledger at the current state.

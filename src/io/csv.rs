@@ -21,10 +21,10 @@ pub struct CsvSeries {
 impl CsvSeries {
     /// Starts an empty series; nothing is written until the first push, so
     /// creating a series never fails.
-    pub fn new(path: PathBuf, columns: &[&str]) -> Self {
+    pub fn new<S: AsRef<str>>(path: PathBuf, columns: &[S]) -> Self {
         Self {
             path,
-            columns: columns.iter().map(|c| c.to_string()).collect(),
+            columns: columns.iter().map(|c| c.as_ref().to_string()).collect(),
             rows: Vec::new(),
         }
     }

@@ -8,7 +8,12 @@
 //! - `contacts.pvd` → `contacts_NNNNNN.vtp`: the force network, one line per contact with its
 //!   forces (only when asked for);
 //! - `energy.csv`: the energy ledger and contact count at each output time, and the packing
-//!   fraction of a region when one is given.
+//!   fraction of a region when one is given;
+//! - `wall_forces.csv` (when the scene has walls): for each wall (`wall` id as in `walls.pvd`:
+//!   planes first, then mesh walls) the mean force on it and mean torque about its reference
+//!   point over the interval that ends at the row's time;
+//! - `flow.csv` (when flow meters are defined): for each meter the net mass and number of bodies
+//!   passed since the start and the mean mass flow rate over the interval.
 //!
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
@@ -20,7 +25,7 @@ use crate::world::World;
 use std::io;
 use std::path::{Path, PathBuf};
 
-pub const ENERGY_COLUMNS: [&str; 11] = [
+pub const ENERGY_COLUMNS: [&str; 12] = [
     "time",
     "kinetic_translational",
     "kinetic_rotational",
@@ -29,6 +34,7 @@ pub const ENERGY_COLUMNS: [&str; 11] = [
     "dissipated",
     "removed",
     "inserted",
+    "wall_work",
     "total",
     "contacts",
     "bodies",
@@ -50,7 +56,13 @@ pub struct RunOutput {
     polyhedra: PvdSeries,
     contacts: PvdSeries,
     energy: CsvSeries,
+    wall_forces: CsvSeries,
+    flow: CsvSeries,
     options: OutputOptions,
+    /// Time, wall impulses and meter totals at the last frame, for the interval means.
+    last_time: f64,
+    last_impulse: Vec<(DVec3, DVec3)>,
+    last_flow_mass: Vec<f64>,
     frame: usize,
     /// Where and how large to draw the infinite plane walls, fixed at the start.
     wall_centre: DVec3,
@@ -77,7 +89,12 @@ impl RunOutput {
             polyhedra: PvdSeries::new(dir.join("polyhedra.pvd")),
             contacts: PvdSeries::new(dir.join("contacts.pvd")),
             energy: CsvSeries::new(dir.join("energy.csv"), &columns),
+            wall_forces: CsvSeries::new(dir.join("wall_forces.csv"), &wall_force_columns(world)),
+            flow: CsvSeries::new(dir.join("flow.csv"), &flow_columns(world)),
             options: options.clone(),
+            last_time: world.time,
+            last_impulse: wall_impulses(world),
+            last_flow_mass: world.flow_meters.iter().map(|m| m.mass).collect(),
             frame: 0,
             wall_centre: 0.5 * (bounds.min + bounds.max),
             wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
@@ -143,6 +160,7 @@ impl RunOutput {
             e.dissipated,
             e.removed,
             e.inserted,
+            e.wall_work,
             e.total(),
             e.contacts as f64,
             b.len() as f64,
@@ -151,7 +169,36 @@ impl RunOutput {
             row.push(packing_fraction(world, &region));
         }
         self.energy.push(&row)?;
+        self.write_interval_means(world)?;
         self.frame += 1;
+        Ok(())
+    }
+
+    /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last frame.
+    fn write_interval_means(&mut self, world: &World) -> io::Result<()> {
+        let interval = world.time - self.last_time;
+        if interval <= 0.0 {
+            return Ok(());
+        }
+        let impulses = wall_impulses(world);
+        if !impulses.is_empty() {
+            let mut row = vec![world.time];
+            for ((j, h), (j0, h0)) in impulses.iter().zip(&self.last_impulse) {
+                let (f, t) = ((*j - *j0) / interval, (*h - *h0) / interval);
+                row.extend([f.x, f.y, f.z, t.x, t.y, t.z]);
+            }
+            self.wall_forces.push(&row)?;
+        }
+        if !world.flow_meters.is_empty() {
+            let mut row = vec![world.time];
+            for (m, m0) in world.flow_meters.iter().zip(&self.last_flow_mass) {
+                row.extend([m.mass, m.bodies as f64, (m.mass - m0) / interval]);
+            }
+            self.flow.push(&row)?;
+        }
+        self.last_time = world.time;
+        self.last_impulse = impulses;
+        self.last_flow_mass = world.flow_meters.iter().map(|m| m.mass).collect();
         Ok(())
     }
 
@@ -167,7 +214,7 @@ impl RunOutput {
         // Mesh walls follow the planes in the `wall` numbering.
         for (n, wall) in world.mesh_walls.iter().enumerate() {
             let first = mesh.vertices.len() as u32;
-            mesh.vertices.extend_from_slice(wall.vertices());
+            mesh.vertices.extend(wall.current_vertices());
             for t in wall.triangles() {
                 mesh.polygons.push(t.iter().map(|&v| first + v).collect());
                 mesh.cell_ids.push((world.planes.len() + n) as u32);
@@ -175,6 +222,43 @@ impl RunOutput {
         }
         mesh
     }
+}
+
+/// Cumulative (impulse, angular impulse) of every wall, zero where no contact has happened yet.
+fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
+    let walls = world.planes.len() + world.mesh_walls.len();
+    (0..walls)
+        .map(|w| {
+            let j = world.wall_impulse.get(w).copied().unwrap_or(DVec3::ZERO);
+            let h = world
+                .wall_angular_impulse
+                .get(w)
+                .copied()
+                .unwrap_or(DVec3::ZERO);
+            (j, h)
+        })
+        .collect()
+}
+
+fn wall_force_columns(world: &World) -> Vec<String> {
+    let walls = world.planes.len() + world.mesh_walls.len();
+    let mut columns = vec!["time".to_string()];
+    for w in 0..walls {
+        for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
+            columns.push(format!("wall{w}_{c}"));
+        }
+    }
+    columns
+}
+
+fn flow_columns(world: &World) -> Vec<String> {
+    let mut columns = vec!["time".to_string()];
+    for m in &world.flow_meters {
+        for c in ["mass", "bodies", "rate"] {
+            columns.push(format!("{}_{c}", m.name));
+        }
+    }
+    columns
 }
 
 /// Faces of every polyhedral body, in world coordinates.

@@ -28,6 +28,7 @@ pub use vertex_penetration::{vertex_penetration, PenetratingPoint, PenetrationSe
 
 use crate::contact_law::OverlapVolume;
 use crate::math::DVec3;
+use crate::wall::WallPose;
 
 /// Where and how deeply two bodies overlap.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,4 +41,20 @@ pub struct Geometry {
     pub overlap: f64,
     /// Overlap volume and area of polyhedra under the volume law; `None` for point contacts.
     pub volume: Option<OverlapVolume>,
+}
+
+impl Geometry {
+    /// The same contact seen after the rigid motion `pose` (found on a moving wall in its
+    /// reference placement, brought to the world). Identity poses leave it bit for bit.
+    pub fn moved(mut self, pose: &WallPose) -> Self {
+        if pose.is_identity() {
+            return self;
+        }
+        self.normal = pose.rotation * self.normal;
+        self.point = pose.to_world(self.point);
+        if let Some(v) = &mut self.volume {
+            v.couple = pose.rotation * v.couple;
+        }
+        self
+    }
 }

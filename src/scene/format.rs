@@ -107,6 +107,20 @@ pub struct OutputSpec {
     pub force_network: bool,
     /// Report the packing fraction of this box in `energy.csv`.
     pub packing_region: Option<DomainSpec>,
+    /// Mass flow meters (`flow.csv`).
+    #[serde(default, rename = "flow_meter")]
+    pub flow_meters: Vec<FlowMeterSpec>,
+}
+
+/// A mass flow meter: through a plane (`point`, `normal`) or out of a box (`min`, `max`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowMeterSpec {
+    pub name: String,
+    pub point: Option<Vec3>,
+    pub normal: Option<Vec3>,
+    pub min: Option<Vec3>,
+    pub max: Option<Vec3>,
 }
 
 /// An open boundary: bodies whose centre leaves this box are removed.
@@ -264,6 +278,25 @@ pub struct MeshWallSpec {
     pub rotation: Vec3,
     #[serde(default)]
     pub translation: Vec3,
+    /// Prescribed motion; none: the wall stays where it is.
+    pub motion: Option<MotionSpec>,
+}
+
+/// How a mesh wall moves (all parts optional, combined when several are given).
+#[derive(Debug, Deserialize, Clone, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// Constant translation velocity [m/s].
+    pub velocity: Option<Vec3>,
+    /// Rows [time, vx, vy, vz]: translation velocity, linear between rows.
+    pub velocity_table: Option<Vec<[f64; 4]>>,
+    /// Rotation rate [revolutions per minute] about `axis` through `axis_point`.
+    pub rpm: Option<f64>,
+    pub axis: Option<Vec3>,
+    #[serde(default)]
+    pub axis_point: Vec3,
+    /// Conveyor-belt velocity of the wall's surface [m/s] (its tangential part acts).
+    pub surface_velocity: Option<Vec3>,
 }
 
 /// Which side of a generated wall bodies are on.

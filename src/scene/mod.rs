@@ -17,6 +17,7 @@ pub use error::{KeyPath, SceneError};
 
 use crate::body::BodyInit;
 use crate::contact_law::NormalLaw;
+use crate::flow::{FlowMeter, FlowSurface};
 use crate::material::{Material, PairOverride, PairTable};
 use crate::math::{DQuat, DVec3};
 use crate::shape::{Shape, Sphere};
@@ -341,6 +342,7 @@ impl Scene {
         }
         world.polyhedral_law = spec.contact.polyhedra;
         world.mesh_walls = mesh_walls;
+        world.flow_meters = self.flow_meters()?;
         world.domain = spec
             .domain
             .as_ref()
@@ -456,7 +458,81 @@ impl Scene {
             }
         }
         let height = if high > low { high - low } else { 0.0 };
-        speed + (2.0 * g * height).sqrt()
+        // A body met by a moving wall: the wall's fastest surface point on top.
+        let wall_speed = world
+            .mesh_walls
+            .iter()
+            .map(|w| w.motion.max_surface_speed(w.vertices()))
+            .fold(0.0, f64::max);
+        speed + (2.0 * g * height).sqrt() + wall_speed
+    }
+
+    /// The `[[output.flow_meter]]`s.
+    fn flow_meters(&self) -> Result<Vec<FlowMeter>, SceneError> {
+        let mut meters: Vec<FlowMeter> = Vec::new();
+        for (n, m) in self.spec.output.flow_meters.iter().enumerate() {
+            let key = |k: &str| KeyPath::table("output").key(&format!("flow_meter[{n}].{k}"));
+            let good_name = !m.name.is_empty()
+                && m.name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+            if !good_name {
+                return Err(self.error(
+                    key("name"),
+                    format!(
+                        "{:?}: a meter's name heads its columns in flow.csv; use letters, digits, \
+                         `_` and `-`",
+                        m.name
+                    ),
+                ));
+            }
+            if meters.iter().any(|other| other.name == m.name) {
+                return Err(self.error(
+                    key("name"),
+                    format!(
+                        "two flow meters are called {:?}: give each its own name",
+                        m.name
+                    ),
+                ));
+            }
+            let finite = |v: [f64; 3]| crate::math::is_finite_vec(DVec3::from(v));
+            let surface = match (m.point, m.normal, m.min, m.max) {
+                (Some(point), Some(normal), None, None) => {
+                    let normal = DVec3::from(normal)
+                        .try_normalize()
+                        .filter(|_| finite(point))
+                        .ok_or_else(|| {
+                            self.error(
+                                key("normal"),
+                                "point and normal must be finite, the normal non-zero",
+                            )
+                        })?;
+                    FlowSurface::Plane {
+                        point: DVec3::from(point),
+                        normal,
+                    }
+                }
+                (None, None, Some(min), Some(max)) => {
+                    let (lo, hi) = (DVec3::from(min), DVec3::from(max));
+                    if !(finite(min) && finite(max)) || lo.cmpge(hi).any() {
+                        return Err(self.error(
+                            key("max"),
+                            "min and max must be finite, max greater than min on every axis",
+                        ));
+                    }
+                    FlowSurface::RegionOutflow(crate::math::Aabb::new(lo, hi))
+                }
+                _ => {
+                    return Err(self.error(
+                        key("point"),
+                        "give `point` and `normal` (flow through a plane) or `min` and `max` \
+                         (flow out of a box), not a mix",
+                    ))
+                }
+            };
+            meters.push(FlowMeter::new(m.name.clone(), surface));
+        }
+        Ok(meters)
     }
 
     /// Every body the scene places, in file order: single particles, then each insertion. Each

@@ -1,9 +1,11 @@
 //! Building the triangle-mesh walls of a scene (`[[mesh_wall]]`).
 
-use super::format::{FacingSpec, WallGenerator};
+use super::format::{FacingSpec, MotionSpec, WallGenerator};
 use super::{KeyPath, Scene, SceneError};
 use crate::math::{DQuat, DVec3};
-use crate::wall::{generators, Ends, Facing, Hand, MeshWall, Screw, TriMesh};
+use crate::wall::{
+    generators, Ends, Facing, Hand, MeshWall, MotionError, Screw, TriMesh, WallMotion,
+};
 
 /// Every `[[mesh_wall]]` of the scene, placed.
 pub fn build(scene: &Scene) -> Result<Vec<MeshWall>, SceneError> {
@@ -40,12 +42,71 @@ pub fn build(scene: &Scene) -> Result<Vec<MeshWall>, SceneError> {
             DQuat::from_scaled_axis(DVec3::from(spec.rotation)),
             DVec3::from(spec.translation),
         );
-        let wall = placed
+        let mut wall = placed
             .into_wall(material)
             .map_err(|e| scene.error(key("file"), e.to_string()))?;
+        if let Some(m) = &spec.motion {
+            wall.motion =
+                motion(m).map_err(|(k, e)| scene.error(key(&format!("motion.{k}")), e))?;
+        }
         walls.push(wall);
     }
     Ok(walls)
+}
+
+/// The motion of a `[mesh_wall.motion]` table, or the key at fault and why.
+fn motion(m: &MotionSpec) -> Result<WallMotion, (&'static str, String)> {
+    let mut motion = WallMotion::fixed();
+    let fail = |k: &'static str| move |e: MotionError| (k, e.to_string());
+    match (m.velocity, &m.velocity_table) {
+        (Some(_), Some(_)) => {
+            return Err((
+                "velocity_table",
+                "give either `velocity` (constant) or `velocity_table`, not both".into(),
+            ))
+        }
+        (Some(v), None) => {
+            motion = motion
+                .with_velocity(DVec3::from(v))
+                .map_err(fail("velocity"))?
+        }
+        (None, Some(rows)) => {
+            let table = rows
+                .iter()
+                .map(|r| (r[0], DVec3::new(r[1], r[2], r[3])))
+                .collect();
+            motion = motion
+                .with_velocity_table(table)
+                .map_err(fail("velocity_table"))?;
+        }
+        (None, None) => {}
+    }
+    match (m.rpm, m.axis) {
+        (Some(rpm), Some(axis)) => {
+            motion = motion
+                .with_rotation(DVec3::from(m.axis_point), DVec3::from(axis), rpm)
+                .map_err(fail("axis"))?
+        }
+        (Some(_), None) => {
+            return Err((
+                "axis",
+                "a rotating wall needs its `axis` (and `axis_point`, default the origin)".into(),
+            ))
+        }
+        (None, Some(_)) => {
+            return Err((
+                "rpm",
+                "an `axis` is given without `rpm`: how fast does it turn?".into(),
+            ))
+        }
+        (None, None) => {}
+    }
+    if let Some(v) = m.surface_velocity {
+        motion = motion
+            .with_surface_velocity(DVec3::from(v))
+            .map_err(fail("surface_velocity"))?;
+    }
+    Ok(motion)
 }
 
 fn facing(f: FacingSpec) -> Facing {

@@ -10,6 +10,7 @@
 //! the generators in `wall::generators` give such meshes). Unwelded copies of a vertex make the
 //! contact routine see a boundary where there is none.
 
+use super::motion::{WallMotion, WallPose};
 use crate::body::MaterialId;
 use crate::io::mesh::ImportedMesh;
 use crate::math::{is_finite_vec, Aabb, DQuat, DVec3};
@@ -93,6 +94,10 @@ pub struct MeshWall {
     vertex_on_boundary: Vec<bool>,
     bounds: Aabb,
     grid: TriangleGrid,
+    /// How the wall moves; its triangles above are in the placement of time 0.
+    pub motion: WallMotion,
+    /// Where the wall is now (see [`MeshWall::set_time`]).
+    pose: WallPose,
 }
 
 impl MeshWall {
@@ -247,6 +252,8 @@ impl MeshWall {
             vertex_on_boundary,
             bounds,
             grid,
+            motion: WallMotion::fixed(),
+            pose: WallPose::IDENTITY,
         })
     }
 
@@ -282,11 +289,29 @@ impl MeshWall {
             .collect();
         let mut moved = Self::new(vertices, self.triangles.clone(), self.material)?;
         moved.smooth_angle = self.smooth_angle;
+        moved.motion = self.motion.clone();
         Ok(moved)
     }
 
+    /// The vertices in the reference placement (time 0); see [`MeshWall::pose`].
     pub fn vertices(&self) -> &[DVec3] {
         &self.vertices
+    }
+
+    /// Where the wall is now: reference placement → world.
+    pub fn pose(&self) -> WallPose {
+        self.pose
+    }
+
+    /// Moves the wall to where its motion puts it at time `t`.
+    pub fn set_time(&mut self, t: f64) {
+        self.pose = self.motion.pose(t);
+    }
+
+    /// The vertices where the wall is now.
+    pub fn current_vertices(&self) -> impl Iterator<Item = DVec3> + '_ {
+        let pose = self.pose;
+        self.vertices.iter().map(move |&v| pose.to_world(v))
     }
 
     pub fn triangles(&self) -> &[[u32; 3]] {

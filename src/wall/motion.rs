@@ -1,0 +1,331 @@
+//! Prescribed motion of a mesh wall: translation (constant velocity or a velocity time table),
+//! rotation about an axis at a constant rate, both at once, and a conveyor-belt surface velocity
+//! of a wall that does not move.
+//!
+//! A moving wall keeps its triangles in the placement it had at time 0 (its reference frame);
+//! its [`WallPose`] at time t maps reference points to the world. Contacts are found with the
+//! body taken into the reference frame, so the wall's adjacency, normals and search grid are
+//! built once, never per step.
+
+use crate::math::{is_finite_vec, DQuat, DVec3};
+use thiserror::Error;
+
+/// Why a motion is not allowed.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum MotionError {
+    #[error("the velocity table needs at least one row [time, vx, vy, vz]")]
+    EmptyTable,
+    #[error("velocity table row {row}: every value must be finite and time ≥ 0")]
+    NonFiniteRow { row: usize },
+    #[error(
+        "velocity table row {row}: time {time} is not after the previous row's {previous}; \
+         list the rows in increasing time"
+    )]
+    TimesNotIncreasing {
+        row: usize,
+        time: f64,
+        previous: f64,
+    },
+    #[error("the rotation axis must be a finite, non-zero vector")]
+    Axis,
+    #[error("the rotation point, rate and surface velocity must be finite")]
+    NonFinite,
+}
+
+/// Where a moving wall is at one moment: world point = `rotation` × reference point +
+/// `translation`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallPose {
+    pub rotation: DQuat,
+    pub translation: DVec3,
+}
+
+impl Default for WallPose {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl WallPose {
+    pub const IDENTITY: Self = Self {
+        rotation: DQuat::IDENTITY,
+        translation: DVec3::ZERO,
+    };
+
+    pub fn is_identity(&self) -> bool {
+        *self == Self::IDENTITY
+    }
+
+    /// World point of a reference point.
+    #[inline]
+    pub fn to_world(&self, reference: DVec3) -> DVec3 {
+        self.rotation * reference + self.translation
+    }
+
+    /// Reference point of a world point.
+    #[inline]
+    pub fn to_reference(&self, world: DVec3) -> DVec3 {
+        self.rotation.inverse() * (world - self.translation)
+    }
+}
+
+/// How a wall moves. The default does not move.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WallMotion {
+    /// Knots (time [s], translation velocity [m/s]) in increasing time: the velocity is linear
+    /// between knots and constant before the first and after the last. Empty: no translation.
+    velocity_table: Vec<(f64, DVec3)>,
+    /// Angular velocity [rad/s] of the rotation (its direction the axis, right hand).
+    angular_velocity: DVec3,
+    /// A point of the rotation axis at time 0 [m]; it moves with the translation.
+    axis_point: DVec3,
+    /// Velocity of the wall's surface material along the wall (a conveyor belt) [m/s]; only its
+    /// part tangential to the surface at a contact acts.
+    surface_velocity: DVec3,
+}
+
+impl WallMotion {
+    /// A wall that does not move.
+    pub fn fixed() -> Self {
+        Self::default()
+    }
+
+    /// Translation at a constant velocity.
+    pub fn with_velocity(self, velocity: DVec3) -> Result<Self, MotionError> {
+        self.with_velocity_table(vec![(0.0, velocity)])
+    }
+
+    /// Translation following a velocity time table (see [`WallMotion`]).
+    pub fn with_velocity_table(mut self, table: Vec<(f64, DVec3)>) -> Result<Self, MotionError> {
+        if table.is_empty() {
+            return Err(MotionError::EmptyTable);
+        }
+        for (row, &(time, v)) in table.iter().enumerate() {
+            if !(time.is_finite() && time >= 0.0 && is_finite_vec(v)) {
+                return Err(MotionError::NonFiniteRow { row });
+            }
+            if row > 0 && time <= table[row - 1].0 {
+                return Err(MotionError::TimesNotIncreasing {
+                    row,
+                    time,
+                    previous: table[row - 1].0,
+                });
+            }
+        }
+        self.velocity_table = table;
+        Ok(self)
+    }
+
+    /// Rotation at `rpm` revolutions per minute about the axis through `point` along `axis`
+    /// (right hand: positive rpm turns counter-clockwise seen from the tip of `axis`).
+    pub fn with_rotation(
+        mut self,
+        point: DVec3,
+        axis: DVec3,
+        rpm: f64,
+    ) -> Result<Self, MotionError> {
+        let axis = axis.try_normalize().ok_or(MotionError::Axis)?;
+        if !(is_finite_vec(point) && rpm.is_finite()) {
+            return Err(MotionError::NonFinite);
+        }
+        self.axis_point = point;
+        self.angular_velocity = axis * (rpm * std::f64::consts::TAU / 60.0);
+        Ok(self)
+    }
+
+    /// A conveyor-belt surface velocity (the wall itself stays where it is unless also moved).
+    pub fn with_surface_velocity(mut self, velocity: DVec3) -> Result<Self, MotionError> {
+        if !is_finite_vec(velocity) {
+            return Err(MotionError::NonFinite);
+        }
+        self.surface_velocity = velocity;
+        Ok(self)
+    }
+
+    /// True when the wall's triangles never leave their reference placement.
+    pub fn keeps_place(&self) -> bool {
+        self.angular_velocity == DVec3::ZERO
+            && self.velocity_table.iter().all(|&(_, v)| v == DVec3::ZERO)
+    }
+
+    /// True when the wall neither moves nor has a surface velocity.
+    pub fn is_fixed(&self) -> bool {
+        self.keeps_place() && self.surface_velocity == DVec3::ZERO
+    }
+
+    /// Angular velocity of the wall [rad/s].
+    pub fn angular_velocity(&self) -> DVec3 {
+        self.angular_velocity
+    }
+
+    /// Translation velocity at time `t`.
+    pub fn velocity(&self, t: f64) -> DVec3 {
+        let table = &self.velocity_table;
+        let Some(&(t_first, v_first)) = table.first() else {
+            return DVec3::ZERO;
+        };
+        if t <= t_first {
+            return v_first;
+        }
+        for pair in table.windows(2) {
+            let ((t0, v0), (t1, v1)) = (pair[0], pair[1]);
+            if t <= t1 {
+                return v0 + (v1 - v0) * ((t - t0) / (t1 - t0));
+            }
+        }
+        table[table.len() - 1].1
+    }
+
+    /// Displacement from time 0 to `t` ≥ 0: the integral of the piecewise-linear velocity, exact
+    /// (trapezoids between the knots).
+    pub fn displacement(&self, t: f64) -> DVec3 {
+        if self.velocity_table.is_empty() || t <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let mut sum = DVec3::ZERO;
+        let mut from = 0.0;
+        for &(knot, _) in &self.velocity_table {
+            if knot >= t {
+                break;
+            }
+            if knot > from {
+                sum += 0.5 * (self.velocity(from) + self.velocity(knot)) * (knot - from);
+                from = knot;
+            }
+        }
+        sum + 0.5 * (self.velocity(from) + self.velocity(t)) * (t - from)
+    }
+
+    /// Where the wall is at time `t`.
+    pub fn pose(&self, t: f64) -> WallPose {
+        if self.keeps_place() {
+            return WallPose::IDENTITY;
+        }
+        let rotation = DQuat::from_scaled_axis(self.angular_velocity * t);
+        let axis_now = self.axis_point + self.displacement(t);
+        WallPose {
+            rotation,
+            translation: axis_now - rotation * self.axis_point,
+        }
+    }
+
+    /// The point the wall's torque is reported about at time `t`: the rotation axis point, moved
+    /// with the translation (the origin for a wall without rotation, moved likewise).
+    pub fn reference_point(&self, t: f64) -> DVec3 {
+        self.axis_point + self.displacement(t)
+    }
+
+    /// An upper bound of the wall's surface speed at any time, for a wall with these reference
+    /// vertices: fastest translation + rotation rate × farthest vertex from the axis + belt.
+    pub fn max_surface_speed(&self, vertices: &[DVec3]) -> f64 {
+        let translation = self
+            .velocity_table
+            .iter()
+            .map(|&(_, v)| v.length())
+            .fold(0.0, f64::max);
+        let w = self.angular_velocity.length();
+        let reach = if w > 0.0 {
+            let axis = self.angular_velocity / w;
+            vertices
+                .iter()
+                .map(|&v| (v - self.axis_point).reject_from_normalized(axis).length())
+                .fold(0.0, f64::max)
+        } else {
+            0.0
+        };
+        translation + w * reach + self.surface_velocity.length()
+    }
+
+    /// Velocity at time `t` of the wall's surface at world point `x` where the surface normal is
+    /// `normal`: rigid motion plus the tangential part of the belt velocity.
+    pub fn surface_velocity_at(&self, t: f64, x: DVec3, normal: DVec3) -> DVec3 {
+        let belt = self.surface_velocity - normal * normal.dot(self.surface_velocity);
+        self.velocity(t) + self.angular_velocity.cross(x - self.reference_point(t)) + belt
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn velocity_table_is_piecewise_linear_and_its_integral_exact() {
+        // v = 0 at 0, ramps to 2 at 1 s, holds to 3 s, drops to 0 at 4 s.
+        let m = WallMotion::fixed()
+            .with_velocity_table(vec![
+                (0.0, DVec3::ZERO),
+                (1.0, DVec3::X * 2.0),
+                (3.0, DVec3::X * 2.0),
+                (4.0, DVec3::ZERO),
+            ])
+            .unwrap();
+        assert_eq!(m.velocity(0.5), DVec3::X);
+        assert_eq!(m.velocity(2.0), DVec3::X * 2.0);
+        assert_eq!(m.velocity(10.0), DVec3::ZERO);
+        // Areas: 1 (ramp) + 4 (hold) + 1 (drop).
+        for (t, x) in [(0.5, 0.25), (1.0, 1.0), (2.5, 4.0), (4.0, 6.0), (9.0, 6.0)] {
+            assert!((m.displacement(t).x - x).abs() < 1e-14, "{t}");
+        }
+        // Constant before the first knot.
+        let late = WallMotion::fixed()
+            .with_velocity_table(vec![(1.0, DVec3::Y), (2.0, DVec3::ZERO)])
+            .unwrap();
+        assert!((late.displacement(1.0).y - 1.0).abs() < 1e-15);
+        assert!((late.displacement(3.0).y - 1.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rotation_turns_points_about_the_axis_at_the_rpm() {
+        let centre = DVec3::new(1.0, 2.0, 0.0);
+        let m = WallMotion::fixed()
+            .with_rotation(centre, DVec3::Z, 60.0)
+            .unwrap();
+        // 60 rpm: a quarter turn in a quarter second.
+        let pose = m.pose(0.25);
+        let p = pose.to_world(centre + DVec3::X);
+        assert!((p - (centre + DVec3::Y)).length() < 1e-14);
+        assert!((pose.to_reference(p) - (centre + DVec3::X)).length() < 1e-14);
+        let v = m.surface_velocity_at(0.25, p, DVec3::Y);
+        assert!((v - DVec3::new(-2.0 * PI, 0.0, 0.0)).length() < 1e-12);
+        // Combined with a translation, the axis travels.
+        let both = m.with_velocity(DVec3::Z).unwrap();
+        let pose = both.pose(0.5);
+        assert!((pose.to_world(centre) - (centre + DVec3::Z * 0.5)).length() < 1e-14);
+    }
+
+    #[test]
+    fn belt_velocity_acts_along_the_surface_only() {
+        let m = WallMotion::fixed()
+            .with_surface_velocity(DVec3::new(1.0, 0.0, 1.0))
+            .unwrap();
+        assert!(m.keeps_place() && !m.is_fixed());
+        assert_eq!(m.pose(3.0), WallPose::IDENTITY);
+        assert_eq!(m.surface_velocity_at(1.0, DVec3::ONE, DVec3::Z), DVec3::X);
+    }
+
+    #[test]
+    fn bad_motions_are_refused() {
+        let f = WallMotion::fixed;
+        assert_eq!(
+            f().with_velocity_table(vec![]),
+            Err(MotionError::EmptyTable)
+        );
+        assert!(matches!(
+            f().with_velocity_table(vec![(1.0, DVec3::X), (1.0, DVec3::Y)]),
+            Err(MotionError::TimesNotIncreasing { row: 1, .. })
+        ));
+        assert!(matches!(
+            f().with_velocity_table(vec![(0.0, DVec3::NAN)]),
+            Err(MotionError::NonFiniteRow { row: 0 })
+        ));
+        assert_eq!(
+            f().with_rotation(DVec3::ZERO, DVec3::ZERO, 10.0),
+            Err(MotionError::Axis)
+        );
+        assert_eq!(
+            f().with_rotation(DVec3::ZERO, DVec3::Z, f64::NAN),
+            Err(MotionError::NonFinite)
+        );
+    }
+}
