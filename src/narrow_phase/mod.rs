@@ -19,8 +19,8 @@ pub use convex_plane::convex_plane;
 pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
 pub use dispatch::{body_body, body_plane, effective_radius, Posed};
 pub use sphere_mesh::{
-    closest_point_on_triangle, sphere_mesh, sphere_mesh_contacts, MeshContact, MeshScratch,
-    TriangleRegion,
+    closest_point_on_triangle, is_behind_mesh, sphere_mesh, sphere_mesh_contacts, MeshContact,
+    MeshScratch, TriangleRegion,
 };
 pub use sphere_plane::sphere_plane;
 pub use sphere_sphere::sphere_sphere;

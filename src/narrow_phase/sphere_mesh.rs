@@ -130,6 +130,50 @@ pub fn closest_point_on_triangle(
     (a + ab * v + ac * w, TriangleRegion::Face)
 }
 
+/// True when `x` is on the far side of the wall from where bodies live: behind the surface at
+/// the point of the wall nearest to it (by the face normal or the edge's or vertex's
+/// pseudo-normal, Bærentzen & Aanæs 2005). Inside a closed wall's solid (a screw's shaft, the
+/// outside of a closed box facing inward) this is true however far from the surface. A point
+/// nearest to the rim of an open wall is never behind it.
+pub fn is_behind_mesh(x: DVec3, wall: &MeshWall) -> bool {
+    let bounds = wall.bounds();
+    let mut half = (bounds.extent().max_element() * 1e-3).max(f64::MIN_POSITIVE);
+    let mut near = Vec::new();
+    loop {
+        // Distance from x to the box of the wall, so the first query reaches some triangle.
+        let outside = (bounds.min - x)
+            .max(x - bounds.max)
+            .max(DVec3::ZERO)
+            .length();
+        wall.triangles_near(&Aabb::around_sphere(x, half.max(outside)), &mut near);
+        let best = near
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = wall.corners(t);
+                let (q, region) = closest_point_on_triangle(x, a, b, c);
+                (t, q, region, (x - q).length())
+            })
+            .min_by(|p, q| p.3.total_cmp(&q.3));
+        match best {
+            // Every triangle outside the query box is farther than its half-size.
+            Some((t, q, region, d)) if d <= half.max(outside) => {
+                let tri = wall.triangles()[t as usize];
+                let feature = match region {
+                    TriangleRegion::Face => Feature::Face(t),
+                    TriangleRegion::Edge(k) => Feature::Edge(wall.triangle_edges()[t as usize][k]),
+                    TriangleRegion::Vertex(k) => Feature::Vertex(tri[k]),
+                };
+                if wall.is_boundary(&feature) {
+                    return false;
+                }
+                return (x - q).dot(wall.feature_normal(&feature)) < 0.0;
+            }
+            Some((_, _, _, d)) => half = d,
+            None => half = 2.0 * half.max(outside),
+        }
+    }
+}
+
 /// The contacts of a sphere (centre `x`, radius `r`) with a mesh wall, normals pointing from the
 /// wall towards the sphere; empty if it touches nothing. See the module's rule.
 pub fn sphere_mesh(x: DVec3, r: f64, wall: &MeshWall) -> Vec<Geometry> {

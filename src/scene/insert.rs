@@ -1,8 +1,10 @@
 //! Filling a box region with spheres: on a lattice, or at seeded random non-overlapping places.
 
 use super::format::{InsertMethod, InsertSpec, RadiusDistribution};
-use crate::math::DVec3;
+use crate::math::{Aabb, DVec3};
+use crate::narrow_phase::{is_behind_mesh, sphere_mesh};
 use crate::rng::SplitMix64;
+use crate::wall::MeshWall;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -39,7 +41,8 @@ pub struct ShapeSize {
     pub volume: f64,
 }
 
-/// Places the spheres one insertion asks for, avoiding the spheres in `existing` and the planes.
+/// Places the spheres one insertion asks for, avoiding the spheres in `existing`, the planes and
+/// the mesh walls (where they are now).
 /// For a shape, the spheres are its bounding spheres, so bodies never overlap whatever their
 /// orientation. `repetition` varies the random stream for repeated insertions of the same spec.
 pub fn insert(
@@ -47,6 +50,7 @@ pub fn insert(
     shape: Option<ShapeSize>,
     existing: &[Placed],
     planes: &[PlaneObstacle],
+    meshes: &[MeshWall],
     repetition: u64,
 ) -> Result<Vec<Placed>, InsertError> {
     let min = DVec3::from(spec.region_min);
@@ -54,27 +58,34 @@ pub fn insert(
     let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
     let radii = draw_radii(spec, shape, (max - min).element_product(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
-    let mut obstacles = Obstacles::new(existing, planes, r_max);
+    let mut obstacles = Obstacles::new(existing, planes, meshes, r_max);
     match spec.method {
         InsertMethod::Lattice => lattice(min, max, &radii, &mut obstacles),
         InsertMethod::Random => random(min, max, radii, &mut obstacles, &mut rng),
     }
 }
 
-/// What a new sphere must not overlap: spheres (hashed on a grid) and planes.
+/// What a new sphere must not overlap: spheres (hashed on a grid), planes and mesh walls.
 struct Obstacles<'a> {
     cell: f64,
     grid: HashMap<(i64, i64, i64), Vec<Placed>>,
     planes: &'a [PlaneObstacle],
+    meshes: &'a [MeshWall],
 }
 
 impl<'a> Obstacles<'a> {
-    fn new(existing: &[Placed], planes: &'a [PlaneObstacle], r_max: f64) -> Self {
+    fn new(
+        existing: &[Placed],
+        planes: &'a [PlaneObstacle],
+        meshes: &'a [MeshWall],
+        r_max: f64,
+    ) -> Self {
         let largest = existing.iter().map(|p| p.radius).fold(r_max, f64::max);
         let mut obstacles = Self {
             cell: 2.0 * largest.max(f64::MIN_POSITIVE),
             grid: HashMap::new(),
             planes,
+            meshes,
         };
         for p in existing {
             obstacles.add(*p);
@@ -94,6 +105,16 @@ impl<'a> Obstacles<'a> {
     fn is_free(&self, centre: DVec3, radius: f64) -> bool {
         let in_front = |w: &PlaneObstacle| (centre - w.point).dot(w.normal) >= radius;
         if !self.planes.iter().all(in_front) {
+            return false;
+        }
+        let clear_of = |wall: &MeshWall| {
+            let x = wall.pose().to_reference(centre);
+            if !wall.bounds().overlaps(&Aabb::around_sphere(x, radius)) {
+                return true;
+            }
+            sphere_mesh(x, radius, wall).is_empty() && !is_behind_mesh(x, wall)
+        };
+        if !self.meshes.iter().all(clear_of) {
             return false;
         }
         let (kx, ky, kz) = self.key(centre);
@@ -318,7 +339,7 @@ mod tests {
     #[test]
     fn lattice_and_random_fills_are_inside_and_do_not_overlap() {
         for method in [InsertMethod::Lattice, InsertMethod::Random] {
-            let p = insert(&spec(method), None, &[], &[], 0).unwrap();
+            let p = insert(&spec(method), None, &[], &[], &[], 0).unwrap();
             assert_eq!(p.len(), 100);
             assert!(no_overlaps(&p) && inside(&p), "{method:?}");
         }
@@ -326,14 +347,14 @@ mod tests {
 
     #[test]
     fn random_fill_is_reproducible_and_seed_dependent() {
-        let a = insert(&spec(InsertMethod::Random), None, &[], &[], 0).unwrap();
+        let a = insert(&spec(InsertMethod::Random), None, &[], &[], &[], 0).unwrap();
         assert_eq!(
             a,
-            insert(&spec(InsertMethod::Random), None, &[], &[], 0).unwrap()
+            insert(&spec(InsertMethod::Random), None, &[], &[], &[], 0).unwrap()
         );
         let mut other = spec(InsertMethod::Random);
         other.seed = 4;
-        assert_ne!(a, insert(&other, None, &[], &[], 0).unwrap());
+        assert_ne!(a, insert(&other, None, &[], &[], &[], 0).unwrap());
     }
 
     #[test]
@@ -346,7 +367,7 @@ mod tests {
             min: 0.03,
             max: 0.06,
         });
-        let p = insert(&s, None, &[], &[], 0).unwrap();
+        let p = insert(&s, None, &[], &[], &[], 0).unwrap();
         let volume: f64 = p.iter().map(|s| 4.0 / 3.0 * PI * s.radius.powi(3)).sum();
         assert!((0.2..0.2 + 4.0 / 3.0 * PI * 0.06f64.powi(3) + 1e-12).contains(&volume));
         assert!(p.iter().all(|s| (0.03..=0.06).contains(&s.radius)));
@@ -359,7 +380,7 @@ mod tests {
             centre: DVec3::splat(0.5),
             radius: 0.3,
         };
-        let p = insert(&spec(InsertMethod::Random), None, &[wall], &[], 0).unwrap();
+        let p = insert(&spec(InsertMethod::Random), None, &[wall], &[], &[], 0).unwrap();
         let mut all = p.clone();
         all.push(wall);
         assert!(no_overlaps(&all));
@@ -375,7 +396,7 @@ mod tests {
         for method in [InsertMethod::Lattice, InsertMethod::Random] {
             let mut s = spec(method);
             s.count = Some(40);
-            let p = insert(&s, None, &[], &[plane], 0).unwrap();
+            let p = insert(&s, None, &[], &[plane], &[], 0).unwrap();
             assert_eq!(p.len(), 40);
             assert!(p
                 .iter()
@@ -384,10 +405,40 @@ mod tests {
     }
 
     #[test]
+    fn fills_keep_clear_of_mesh_walls_where_they_are_now() {
+        // A screw-like obstacle: a slab of the unit region's middle, moved by its pose.
+        let slab = crate::wall::generators::box_mesh(
+            DVec3::new(-0.1, -0.1, 0.4),
+            DVec3::new(1.1, 1.1, 0.6),
+            2,
+            crate::wall::Facing::Outward,
+        )
+        .unwrap()
+        .into_wall(0)
+        .unwrap();
+        let mut moved = slab.clone();
+        moved.motion = crate::wall::WallMotion::fixed()
+            .with_velocity(DVec3::new(0.0, 0.0, 0.2))
+            .unwrap();
+        moved.set_time(1.0);
+        for (wall, (lo, hi)) in [(slab, (0.4, 0.6)), (moved, (0.6, 0.8))] {
+            for method in [InsertMethod::Lattice, InsertMethod::Random] {
+                let mut s = spec(method);
+                s.count = Some(40);
+                let walls = [wall.clone()];
+                let p = insert(&s, None, &[], &[], &walls, 0).unwrap();
+                assert_eq!(p.len(), 40);
+                let clear = |s: &Placed| s.centre.z + s.radius <= lo || s.centre.z - s.radius >= hi;
+                assert!(p.iter().all(clear), "{method:?} in slab [{lo}, {hi}]");
+            }
+        }
+    }
+
+    #[test]
     fn a_partial_fill_reports_what_fitted() {
         let mut s = spec(InsertMethod::Lattice);
         s.count = Some(1001);
-        let e = insert(&s, None, &[], &[], 0).unwrap_err();
+        let e = insert(&s, None, &[], &[], &[], 0).unwrap_err();
         assert_eq!(e.placed.len(), 1000);
     }
 
@@ -395,13 +446,13 @@ mod tests {
     fn overfull_requests_are_refused_with_advice() {
         let mut s = spec(InsertMethod::Lattice);
         s.count = Some(1001);
-        assert!(insert(&s, None, &[], &[], 0)
+        assert!(insert(&s, None, &[], &[], &[], 0)
             .unwrap_err()
             .message
             .contains("1000 lattice sites"));
         let mut s = spec(InsertMethod::Random);
         s.count = Some(2000);
-        assert!(insert(&s, None, &[], &[], 0)
+        assert!(insert(&s, None, &[], &[], &[], 0)
             .unwrap_err()
             .message
             .contains("lattice"));

@@ -97,11 +97,17 @@ impl Prepared {
                 .collect();
             let planes = plane_obstacles(&world.planes);
             let size = s.shape.as_ref().map(shape_size);
-            let (placed, shortfall) =
-                match insert::insert(&s.spec, size, &existing, &planes, s.done) {
-                    Ok(placed) => (placed, None),
-                    Err(e) => (e.placed, Some(e.message)),
-                };
+            let (placed, shortfall) = match insert::insert(
+                &s.spec,
+                size,
+                &existing,
+                &planes,
+                &world.mesh_walls,
+                s.done,
+            ) {
+                Ok(placed) => (placed, None),
+                Err(e) => (e.placed, Some(e.message)),
+            };
             let mut orientations = orientation_stream(&s.spec, s.done);
             for p in &placed {
                 world.insert_body(inserted_body(
@@ -298,7 +304,7 @@ impl Scene {
         if !mesh_walls.is_empty() {
             self.refuse_polyhedra_with_mesh_walls(&shapes)?;
         }
-        let bodies = self.bodies(&shapes, &plane_obstacles(&planes))?;
+        let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
         let mut schedule = Vec::new();
@@ -541,6 +547,7 @@ impl Scene {
         &self,
         shapes: &BTreeMap<String, shapes::BuiltShape>,
         planes: &[insert::PlaneObstacle],
+        meshes: &[crate::wall::MeshWall],
     ) -> Result<Vec<(BodyInit, KeyPath)>, SceneError> {
         let mut bodies = Vec::new();
         let mut placed: Vec<Placed> = Vec::new();
@@ -586,7 +593,7 @@ impl Scene {
             let material = self.material_index(&spec.material, key.clone().key("material"))?;
             let shape = self.shape_of(shapes, spec.shape.as_deref(), n)?;
             let size = shape.as_ref().map(shape_size);
-            let new = insert::insert(spec, size, &placed, planes, 0)
+            let new = insert::insert(spec, size, &placed, planes, meshes, 0)
                 .map_err(|e| self.error(key.clone(), e.message))?;
             let mut orientations = orientation_stream(spec, 0);
             for p in &new {
