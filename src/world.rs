@@ -9,7 +9,7 @@ use crate::flow::FlowMeter;
 use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
-use crate::narrow_phase::{self, ClipScratch, Geometry, MeshScratch};
+use crate::narrow_phase::{self, ClipScratch, ConvexMeshScratch, Geometry, MeshScratch};
 use crate::shape::Shape;
 use crate::wall::MeshWall;
 use crate::wall::Plane;
@@ -50,7 +50,7 @@ pub struct World {
     pub contacts: ContactList,
     /// Body–plane contacts, `a` the body, `b` the plane.
     pub plane_contacts: ContactList,
-    /// Triangle-mesh walls, fixed or moving (spheres only so far).
+    /// Triangle-mesh walls, fixed or moving.
     pub mesh_walls: Vec<MeshWall>,
     /// Body–mesh contacts, `a` the body, `b` = wall × [`MESH_REGIONS`] + region: a body can
     /// touch one wall in several places (a corner), each a contact with its own history.
@@ -398,10 +398,11 @@ impl World {
         self.detect_mesh_contacts();
     }
 
-    /// Contacts of spheres with mesh walls. A sphere may touch a wall in up to [`MESH_REGIONS`]
-    /// places; each keeps its history from step to step by following its normal: a region takes
-    /// the slot of last step's region of that body and wall whose normal is closest (within
-    /// 45°), so a sphere rolling across triangles keeps its friction spring.
+    /// Contacts of bodies with mesh walls (`sphere_mesh` for spheres, `convex_mesh` for
+    /// polyhedra). A body may touch a wall in up to [`MESH_REGIONS`] places; each keeps its
+    /// history from step to step by following its normal: a region takes the slot of last step's
+    /// region of that body and wall whose normal is closest (within 45°), so a body moving
+    /// across triangles keeps its friction spring.
     fn detect_mesh_contacts(&mut self) {
         self.found.clear();
         let walls = &self.mesh_walls;
@@ -411,6 +412,7 @@ impl World {
         }
         let bodies = &self.bodies;
         let shapes = &self.shapes;
+        let law = self.polyhedral_law;
         let per_body = walls.len() * MESH_REGIONS;
         let detected = &mut self.detected;
         detected.clear();
@@ -420,10 +422,37 @@ impl World {
             .enumerate()
             .with_min_len(64)
             .for_each_init(
-                || (MeshScratch::default(), Vec::new()),
-                |(scratch, out), (i, slots)| {
-                    let Shape::Sphere(sphere) = &shapes[bodies.shape[i] as usize] else {
-                        return;
+                || {
+                    let convex = (ConvexMeshScratch::default(), Vec::new());
+                    (MeshScratch::default(), Vec::new(), convex)
+                },
+                |(scratch, out, (convex_scratch, convex_out)), (i, slots)| {
+                    let sphere = match &shapes[bodies.shape[i] as usize] {
+                        Shape::Sphere(sphere) => sphere,
+                        Shape::Convex(p) => {
+                            for (w, wall) in walls.iter().enumerate() {
+                                // In the wall's reference placement, as for spheres below.
+                                let pose = wall.pose();
+                                let x = pose.to_reference(bodies.position[i]);
+                                let q = pose.rotation.inverse() * bodies.orientation[i];
+                                narrow_phase::convex_mesh_contacts(
+                                    p,
+                                    x,
+                                    q,
+                                    wall,
+                                    law,
+                                    convex_scratch,
+                                    convex_out,
+                                );
+                                for (slot, g) in slots[w * MESH_REGIONS..(w + 1) * MESH_REGIONS]
+                                    .iter_mut()
+                                    .zip(convex_out.iter())
+                                {
+                                    *slot = Some(g.moved(&pose));
+                                }
+                            }
+                            return;
+                        }
                     };
                     let r = sphere.radius;
                     for (w, wall) in walls.iter().enumerate() {

@@ -102,7 +102,7 @@ fn vertices_behind<'a>(
 /// One contact for the vertex law's springs (point, depth, direction of the force on the first
 /// body): their resultant Σ dᵢ nᵢ and its moment about the depth-weighted mean point, which is
 /// where the contact acts. `None` without a penetrating point.
-fn springs(points: impl Iterator<Item = (DVec3, f64, DVec3)>) -> Option<Geometry> {
+pub(super) fn springs(points: impl Iterator<Item = (DVec3, f64, DVec3)>) -> Option<Geometry> {
     let (mut load, mut weighted, mut total, mut potential, mut count) =
         (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0, 0usize);
     let mut first_moment = DVec3::ZERO;
@@ -153,7 +153,7 @@ pub fn effective_radius(a: &Shape, b: &Shape) -> f64 {
 /// (the gradient of the law's energy); for an overlap under one face of a body it is that face's
 /// normal, as is the vector area's, and where the overlap meets several faces (crossing edges,
 /// corners) it is the direction that conserves energy.
-fn volume_geometry(c: VolumeContact) -> Geometry {
+pub(super) fn volume_geometry(c: VolumeContact) -> Geometry {
     Geometry {
         normal: c.load.try_normalize().unwrap_or(c.normal),
         point: c.centroid,

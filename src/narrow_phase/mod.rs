@@ -4,6 +4,7 @@
 
 mod clip;
 mod convex_convex;
+mod convex_mesh;
 mod convex_plane;
 mod convex_sphere;
 mod dispatch;
@@ -15,6 +16,7 @@ mod vertex_penetration;
 
 pub use clip::{ClipScratch, Plane};
 pub use convex_convex::{convex_convex, VolumeContact};
+pub use convex_mesh::{convex_mesh, convex_mesh_contacts, ConvexMeshScratch};
 pub use convex_plane::convex_plane;
 pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
 pub use dispatch::{body_body, body_plane, effective_radius, Posed};
