@@ -213,6 +213,12 @@ pub fn convex_mesh_contacts(
         springs: spring_list,
     } = scratch;
     let radius = p.bounding_radius();
+    if !wall
+        .bounds()
+        .overlaps(&Aabb::around_sphere(x, (1.0 + SEARCH_MARGIN) * radius))
+    {
+        return;
+    }
     let tolerance = PLANE_TOLERANCE * radius;
     let rotation = DMat3::from_quat(q);
     vertices.clear();
