@@ -245,6 +245,46 @@ fn particle_overlapping_a_plane() {
     );
 }
 
+/// A cube on a mesh floor: valid resting on it, refused when it starts sunk into it (polyhedra
+/// met mesh walls only by refusal once; now their overlap is checked like a sphere's).
+#[test]
+fn polyhedron_on_a_mesh_wall_is_checked_for_overlap() {
+    let cube_on_mesh = |z: f64| {
+        format!(
+            r#"{}
+[shape.cube]
+type = "box"
+edges = [0.01, 0.01, 0.01]
+
+[[mesh_wall]]
+material = "glass"
+generator = {{ type = "rectangle", origin = [0.02, -0.1, 0.03], u = [0.2, 0.0, 0.0], v = [0.0, 0.2, 0.0], divisions = [5, 5] }}
+
+[[particle]]
+shape = "cube"
+material = "glass"
+position = [0.053, 0.0, {z}]
+"#,
+            BASE
+        )
+    };
+    let dir = tempfile::tempdir().unwrap();
+    assert!(checked(dir.path(), &cube_on_mesh(0.0351)).contains("scene is valid"));
+    let scene = cube_on_mesh(0.034);
+    let header = at(
+        &scene.replacen("[[particle]]", "[[first]]", 1),
+        "[[particle]]",
+    );
+    refused(
+        Some(&scene),
+        &[
+            &header,
+            "overlaps [[mesh_wall]] #1",
+            "move it to the side the wall faces",
+        ],
+    );
+}
+
 #[test]
 fn time_step_above_the_stable_limit_unless_forced() {
     let dir = tempfile::tempdir().unwrap();

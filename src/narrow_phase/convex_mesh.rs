@@ -3,21 +3,37 @@
 //! # Cells
 //!
 //! The space behind the wall is cut into one **cell** per triangle: the part behind the
-//! triangle's plane and inside the three side planes through its edges. The side plane of an edge
-//! shared by two triangles is the plane through the edge that bisects their dihedral angle (the
-//! points equally deep below both planes); on a flat stretch that is the plane perpendicular to
-//! the face, so there the cells are the prisms over the triangles. The side plane of a rim edge
-//! (one triangle) is perpendicular to the face. Both triangles of an edge compute the same plane
-//! (with opposite orientation, bit for bit), so the cells of neighbours share their boundary:
+//! triangle's plane and inside planes through its three edges. Across an edge shared with one
+//! other triangle that plane bisects the dihedral angle of the two faces (the points equally deep
+//! below both planes); between coplanar triangles it is the plane perpendicular to the face, so
+//! over a flat stretch the cells are the prisms over the triangles. Across a rim edge (one
+//! triangle) it is perpendicular to the face. Both triangles of an edge compute the same plane
+//! (oppositely oriented, bit for bit), so the cells of neighbours share their boundary:
 //! - over a flat region the cells tile the half-space behind it, and any triangulation of the
 //!   region cuts the body's submerged part into pieces whose volumes, first moments and section
 //!   areas add up to those of the plane (`convex_plane`), to rounding;
 //! - at a convex edge (the rim of a table) the region behind both faces is split between them
-//!   along the bisector, not counted twice; at a concave corner (inside a box) the wedge behind
-//!   both walls is covered, not left out.
+//!   along the bisector, not counted twice; at a concave one (inside a box) the wedge behind both
+//!   walls is covered, not left out.
+//!
+//! Faces that fold convexly (each one's triangle behind the other's plane) are also separated by
+//! their bisector where their triangles meet only at a vertex (the second triangle of a square
+//! next to a box's edge) or not at all: every cell of a triangle near the body is cut by the
+//! bisectors with the other acting planes near the body that fold convexly from its own.
 //!
 //! A triangle acts only on a body whose **centre is in front of its plane**: the back faces of a
-//! thin wall (the underside of a screw flight a body sits on) do not pull the body through.
+//! thin wall (the underside of a screw flight a body sits on) never pull the body through. A cell
+//! next to a convex fold whose other face does not act ends at that face's plane instead of the
+//! bisector: it then holds all of the wall behind both faces and nothing in front of the other
+//! (the part of a body hanging over a hopper's sloping rim is not taken for a part under its
+//! floor). So a body sunk through a thin wall is pushed back by the part of it inside the wall.
+//!
+//! Where the cells reach past a fold (concave folds, and convex ones whose other face does not act
+//! and meets this one at more than a right angle), the planes through the triangles' other edges
+//! bound them laterally, and at the vertices of the fold those of consecutive triangles need not
+//! meet: a body sunk by a good part of its size can be counted slightly too much or too little
+//! there (a term of third order in the depth; measured ≤ 2.5 % of the volume for bodies sunk by
+//! more than a seventh of their size at a frustum's 144° folds, exact below a tenth).
 //!
 //! # Volume law
 //!
@@ -28,14 +44,17 @@
 //! through c_t. Moving the body changes W also through the pressure k φ_t on the side faces of the
 //! cells; across a shared side plane these terms cancel, since both cells see the same depth
 //! there (the plane is the bisector) with opposite normals. So wherever the body's submerged part
-//! lies in cells of active triangles, the force and its moment are the exact gradient of W: the
+//! lies in cells of acting triangles, the force and its moment are the exact gradient of W: the
 //! contact conserves energy across edges, corners and folds, as the volume law does against a
 //! plane.
 //!
 //! The parts are integrated with the divergence theorem: the body's faces clipped by the cell's
-//! four half-spaces, plus the caps the cell's side planes cut from the body (the cap on the
-//! triangle's plane adds nothing, the tetrahedra's apex being on it; its area is what closes the
-//! vector areas of the others).
+//! half-spaces, plus the caps the cell's side planes cut from the body (the cap on the triangle's
+//! plane adds nothing, the tetrahedra's apex being on it; its area is what closes the vector
+//! areas of the others). A part wrapped round a convex edge may meet its triangle's plane only
+//! along the edge; the area of its contact (the stiffness k A, the depth V/A) is the section plus
+//! the shadow on the plane of the caps on tilted side planes that face away from it (nothing on a
+//! flat region, whose side planes are perpendicular).
 //!
 //! # Regions
 //!
@@ -194,6 +213,12 @@ pub fn convex_mesh_contacts(
         springs: spring_list,
     } = scratch;
     let radius = p.bounding_radius();
+    if !wall
+        .bounds()
+        .overlaps(&Aabb::around_sphere(x, (1.0 + SEARCH_MARGIN) * radius))
+    {
+        return;
+    }
     let tolerance = PLANE_TOLERANCE * radius;
     let rotation = DMat3::from_quat(q);
     vertices.clear();
@@ -422,7 +447,7 @@ pub fn convex_mesh_contacts(
                         shadow += area * (-side.normal.dot(face.normal)).max(0.0);
                     }
                 }
-                if !(sums.six_volume > 0.0) {
+                if sums.six_volume.is_nan() || sums.six_volume <= 0.0 {
                     continue;
                 }
                 piece.volume = sums.six_volume / 6.0;

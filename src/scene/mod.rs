@@ -301,9 +301,6 @@ impl Scene {
 
         let mesh_walls = walls::build(self)?;
         let shapes = shapes::build(self)?;
-        if !mesh_walls.is_empty() {
-            self.refuse_polyhedra_with_mesh_walls(&shapes)?;
-        }
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
@@ -634,40 +631,9 @@ impl Scene {
         .transpose()
     }
 
-    /// Mesh walls collide with spheres only so far: a scene that would put a polyhedron next to
-    /// one is refused rather than letting it pass through.
-    fn refuse_polyhedra_with_mesh_walls(
-        &self,
-        shapes: &BTreeMap<String, shapes::BuiltShape>,
-    ) -> Result<(), SceneError> {
-        let polyhedral = |name: &Option<String>| {
-            name.as_ref()
-                .and_then(|n| shapes.get(n))
-                .is_some_and(|b| matches!(b.shape, Shape::Convex(_)))
-        };
-        let offender = self
-            .spec
-            .particles
-            .iter()
-            .position(|p| polyhedral(&p.shape))
-            .map(|n| KeyPath::entry("particle", n).key("shape"))
-            .or_else(|| {
-                self.spec
-                    .insertions
-                    .iter()
-                    .position(|i| polyhedral(&i.shape))
-                    .map(|n| KeyPath::entry("insert", n).key("shape"))
-            });
-        match offender {
-            Some(key) => Err(self.error(
-                key,
-                "polyhedral particles cannot meet [[mesh_wall]]s yet (spheres can); use                  [[plane]] walls with polyhedra for now",
-            )),
-            None => Ok(()),
-        }
-    }
-
-    /// Refuses spheres that start overlapping a mesh wall by more than the tolerance.
+    /// Refuses bodies that start overlapping a mesh wall by more than the tolerance (times the
+    /// sphere's radius, or the polyhedron's volume-equivalent radius; for a polyhedron the
+    /// overlap is the mean depth of the run's volume-law contact, as between bodies).
     fn check_mesh_wall_overlaps(
         &self,
         bodies: &[(BodyInit, KeyPath)],
@@ -675,13 +641,21 @@ impl Scene {
     ) -> Result<(), SceneError> {
         let tolerance = self.spec.simulation.initial_overlap_tolerance;
         for (b, key) in bodies {
-            let Shape::Sphere(s) = &b.shape else { continue };
             for (n, wall) in walls.iter().enumerate() {
-                let deepest = crate::narrow_phase::sphere_mesh(b.position, s.radius, wall)
-                    .iter()
-                    .map(|g| g.overlap)
-                    .fold(0.0, f64::max);
-                if deepest > tolerance * s.radius {
+                let contacts = match &b.shape {
+                    Shape::Sphere(s) => {
+                        crate::narrow_phase::sphere_mesh(b.position, s.radius, wall)
+                    }
+                    Shape::Convex(p) => crate::narrow_phase::convex_mesh(
+                        p,
+                        b.position,
+                        b.orientation,
+                        wall,
+                        crate::contact_law::PolyhedralLaw::Volume,
+                    ),
+                };
+                let deepest = contacts.iter().map(|g| g.overlap).fold(0.0, f64::max);
+                if deepest > tolerance * b.shape.equivalent_radius() {
                     return Err(self.error(
                         key.clone(),
                         format!(
