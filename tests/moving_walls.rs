@@ -6,15 +6,20 @@ use polydem::body::BodyInit;
 use polydem::contact_law::NormalLaw;
 use polydem::material::{Material, PairTable};
 use polydem::math::{DQuat, DVec3};
-use polydem::shape::{Shape, Sphere};
+use polydem::shape::{generators as shapes, Shape, Sphere};
 use polydem::wall::{generators, Ends, Facing, MeshWall, WallMotion};
 use polydem::{World, WorldConfig};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 const RADIUS: f64 = 0.005;
 const G: f64 = 9.81;
 
 fn world(friction: f64, rolling_friction: f64) -> World {
+    world_with_gravity(friction, rolling_friction, DVec3::new(0.0, 0.0, -G))
+}
+
+fn world_with_gravity(friction: f64, rolling_friction: f64, gravity: DVec3) -> World {
     let material = Material {
         name: "m".into(),
         density: 2500.0,
@@ -32,7 +37,7 @@ fn world(friction: f64, rolling_friction: f64) -> World {
     );
     World::new(WorldConfig {
         time_step: 2e-6,
-        gravity: DVec3::new(0.0, 0.0, -G),
+        gravity,
         materials: vec![material],
         pair_laws: laws,
         planes: Vec::new(),
@@ -211,4 +216,54 @@ fn wall_impulse_gives_the_weight_of_a_resting_sphere() {
         (torque - expected).length() < 1e-3 * expected.length(),
         "{torque}"
     );
+}
+
+/// A drum turning at 10 rpm about a horizontal axis (gravity along −y) with a cube resting on
+/// its inside at the bottom. Friction (μ = 0.6, sliding only past 31°) carries the cube up with
+/// the drum: while it rises it moves with the drum's surface, velocity Ω × r, and turns with it,
+/// ω = Ω — a rigid co-rotation, the drum's surface velocity at the cube.
+#[test]
+fn drum_carries_a_resting_cube_with_its_surface_velocity() {
+    let rpm = 10.0;
+    let omega = rpm * 2.0 * PI / 60.0;
+    let mut w = world_with_gravity(0.6, 0.0, DVec3::new(0.0, -G, 0.0));
+    let radius = 0.1;
+    let mut drum = generators::cylinder(radius, 0.04, 96, 1, Ends::Closed, Facing::Inward)
+        .unwrap()
+        .transformed(1.0, DQuat::IDENTITY, DVec3::new(0.0, 0.0, -0.02))
+        .into_wall(0)
+        .unwrap();
+    drum.motion = WallMotion::fixed()
+        .with_rotation(DVec3::ZERO, DVec3::Z, rpm)
+        .unwrap();
+    w.mesh_walls.push(drum);
+    let edge = 0.01;
+    let (cube, _) = shapes::cuboid(edge, edge, edge).unwrap();
+    // On the flat facet at the bottom (the facets' inscribed radius), touching it.
+    let floor = radius * (PI / 96.0).cos();
+    let i = w.add_body(BodyInit {
+        shape: Shape::Convex(Arc::new(cube)),
+        material: 0,
+        position: DVec3::new(0.0, -floor + 0.5 * edge, 0.0),
+        orientation: DQuat::from_rotation_z(PI / 96.0),
+        velocity: DVec3::ZERO,
+        angular_velocity: DVec3::ZERO,
+    });
+    // 0.3 s: the drum has turned 18°, short of the 31° at which the cube would slide.
+    w.run_steps((0.3 / w.time_step) as u64);
+    let x = w.bodies.position[i];
+    let carried = DVec3::Z.cross(x) * omega;
+    let v = w.bodies.velocity[i];
+    assert!(
+        (v - carried).length() < 0.01 * carried.length(),
+        "velocity {v} vs drum surface {carried}"
+    );
+    let spin = w.bodies.angular_velocity[i];
+    assert!(
+        (spin - DVec3::Z * omega).length() < 0.01 * omega,
+        "spin {spin} vs {omega}"
+    );
+    // It has risen with the drum by about 18° (not slid back to the bottom).
+    let angle = x.x.atan2(-x.y);
+    assert!((angle - 0.3 * omega).abs() < 0.05, "angle {angle}");
 }
