@@ -239,9 +239,10 @@ pub fn convex_mesh_contacts(
     classes.clear();
     for &t in near.iter() {
         let face = face_plane(wall, t, x);
+        // The offsets first: a cheap test that rules out most classes.
         let class = match classes.iter().position(|c| {
-            (c.face.normal - face.normal).length() < SAME_NORMAL
-                && (c.face.offset - face.offset).abs() <= tolerance
+            (c.face.offset - face.offset).abs() <= tolerance
+                && (c.face.normal - face.normal).length() < SAME_NORMAL
         }) {
             Some(c) => c,
             None => {
@@ -317,6 +318,9 @@ pub fn convex_mesh_contacts(
         }
     }
 
+    // By class (stable: each class keeps its planes' order), so a cell finds its own at once.
+    bounds.sort_by_key(|&(c, _)| c);
+
     planes.clear();
     planes.extend(p.faces().iter().map(|f| Plane {
         normal: rotation * f.normal,
@@ -334,8 +338,13 @@ pub fn convex_mesh_contacts(
         cell.clear();
         cell.push(face);
         cell.extend(edge_planes(wall, t, x));
-        for &(c, plane) in bounds.iter() {
-            if c != class {
+        let own = bounds.partition_point(|&(c, _)| c < class)
+            ..bounds.partition_point(|&(c, _)| c <= class);
+        for &(_, plane) in &bounds[own] {
+            // A plane with the whole body on its inner side changes neither the piece nor its
+            // caps: left out, so a facet of a curved wall (bounded by bisectors with every
+            // facet it folds with) keeps a cell of a few planes.
+            if extent(vertices, &plane).1 <= tolerance {
                 continue;
             }
             // The plane across an edge to the other plane is already there (a second copy
