@@ -48,6 +48,9 @@ pub struct Prepared {
     pub schedule: Vec<ScheduledInsertion>,
     /// What the run writes beyond the defaults.
     pub output: crate::io::output::OutputOptions,
+    /// What building the scene repaired or decided that the user should know (welded mesh
+    /// vertices, turned triangles).
+    pub notes: Vec<String>,
 }
 
 /// An `[[insert]]` that happens during the run, once or repeatedly.
@@ -356,6 +359,7 @@ impl Scene {
             polyhedron: shape
                 .largest_face_area()
                 .map(|area| (shape.equivalent_radius(), area)),
+            vertex_springs: shape.largest_face_corners(),
         };
         let present = (0..b.len())
             .map(|i| candidate(&world.shapes[b.shape[i] as usize], b.mass[i], b.material[i]));
@@ -421,6 +425,10 @@ impl Scene {
                     .as_ref()
                     .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
             },
+            notes: shapes
+                .iter()
+                .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
+                .collect(),
         })
     }
 
@@ -560,7 +568,7 @@ impl Scene {
         let polyhedral = |name: &Option<String>| {
             name.as_ref()
                 .and_then(|n| shapes.get(n))
-                .is_some_and(|b| matches!(b.shape, Shape::Convex(_)))
+                .is_some_and(|b| matches!(b.shape, Shape::Convex(_) | Shape::NonConvex(_)))
         };
         let offender = self
             .spec
@@ -690,6 +698,11 @@ fn depth_behind_plane(b: &BodyInit, plane: &Plane) -> f64 {
     match &b.shape {
         Shape::Sphere(s) => s.radius - height(b.position),
         Shape::Convex(p) => -p
+            .vertices()
+            .iter()
+            .map(|&v| height(b.position + b.orientation * v))
+            .fold(f64::INFINITY, f64::min),
+        Shape::NonConvex(p) => -p
             .vertices()
             .iter()
             .map(|&v| height(b.position + b.orientation * v))
