@@ -129,7 +129,29 @@ impl Bvh {
         margin: f64,
         f: impl FnMut(u32) -> bool,
     ) -> bool {
-        self.visit(|b| line_meets_box(point, direction, &b.enlarged(margin)), f)
+        // The slab test with the reciprocal direction computed once (an axis the line runs
+        // across, with a zero component, gives infinities that compare correctly, but 0 · ∞ does
+        // not: such axes are tested directly).
+        let inverse = direction.recip();
+        let parallel = direction.cmpeq(DVec3::ZERO);
+        let m = DVec3::splat(margin);
+        self.visit(
+            |b| {
+                let (lo, hi) = (b.min - m - point, b.max + m - point);
+                if parallel.any() {
+                    let inside = lo.cmple(DVec3::ZERO) & hi.cmpge(DVec3::ZERO);
+                    if (parallel & !inside).any() {
+                        return false;
+                    }
+                }
+                let (s0, s1) = (lo * inverse, hi * inverse);
+                let (near, far) = (s0.min(s1), s0.max(s1));
+                let near = DVec3::select(parallel, DVec3::NEG_INFINITY, near);
+                let far = DVec3::select(parallel, DVec3::INFINITY, far);
+                near.max_element() <= far.min_element()
+            },
+            f,
+        )
     }
 
     /// The point of the mesh surface closest to `p`, its squared distance and its triangle, if

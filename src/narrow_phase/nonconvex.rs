@@ -3,21 +3,26 @@
 //!
 //! # Points
 //!
-//! For bodies A and B (either may be convex; at least one is a mesh) the penetrating points are
-//! those of the convex case (`vertex_penetration`), found on meshes:
+//! For bodies A and B (either may be convex; at least one is a mesh) the springs of the vertex
+//! law sit at:
 //!
 //! 1. vertices of one body inside the other — the ray-casting test of the seed paper
 //!    (`geometry::point_in_polyhedron`, exact, accelerated by the shape's bounding-volume
 //!    hierarchy); depth: the distance to the nearest point of the other's surface, force along
 //!    the direction from the vertex to that point (the face normal when it lies inside a face);
-//! 2. crossing points: where an edge of one surface passes through a triangle (face) of the other
-//!    (exact orientation tests); depth zero, they outline the regions;
-//! 3. edge–edge points: two sharp edges crossing inside the overlap (as in the convex case: the
-//!    closest points of the parts of the edges inside the other body, when they lie strictly inside
-//!    those parts, in one region, and the segment's middle is inside both bodies).
+//! 2. edges: the middle of each part of a sharp edge inside the other body, with its depth and
+//!    direction found alike. This takes the place of the convex case's edge–edge points: it
+//!    covers two ridges crossing, and an edge pressed into a face with both its ends outside
+//!    (crossed beams, ubiquitous between the arms of crosses), which no vertex and no crossing of
+//!    edges sees. Such a part starts and ends on the other body's surface, so its spring appears
+//!    and vanishes at depth zero, and the force stays continuous as edges enter and leave;
+//! 3. crossing points: where an edge of one surface passes through a triangle (face) of the other
+//!    (exact orientation tests); depth zero, they outline the regions and delimit the parts of
+//!    edges inside.
 //!
 //! Only the vertices and edges near the other body (from the hierarchy, by the other body's box)
-//! are looked at.
+//! are looked at. The parts of an edge between its crossings are told inside or outside by the
+//! exact test at their middles.
 //!
 //! # Regions
 //!
@@ -26,7 +31,7 @@
 //! a union–find:
 //!
 //! - along an edge, the part inside the other body joins its two ends (a vertex inside, or a
-//!   crossing point) and the edge–edge points on it;
+//!   crossing point) and its spring;
 //! - a face of A and a face of B that intersect do so in a segment whose two ends are crossing
 //!   points (an edge of A's face through B's face, or an edge of B's face through A's face): the
 //!   crossing points sharing a pair (face of A, face of B) are joined. These segments make up the
@@ -42,7 +47,6 @@
 //! forces stay exact: springs only add).
 
 use super::clip::{ClipScratch, Plane};
-use super::dispatch::springs;
 use super::separation::bounding_spheres_separated;
 use super::sphere_mesh::{sphere_mesh_contacts, MeshContact, MeshScratch};
 use super::Geometry;
@@ -58,29 +62,46 @@ pub const MAX_REGIONS: usize = 8;
 #[derive(Clone, Copy, Debug)]
 struct Point {
     position: DVec3,
+    /// Depth of the spring (≥ 0; 0 for a crossing point).
     depth: f64,
-    /// Direction of the force on A.
-    normal: DVec3,
+    /// Its contribution to the load on A, depth × direction of the force (per unit stiffness);
+    /// negative for the correction of an edge spring (see `edge_spring`).
+    force: DVec3,
+    /// Its contribution to the potential, ½ depth² (per unit stiffness), or the correction's.
+    potential: f64,
+    /// Whether it counts as a spring (for the contact's tangent stiffness).
+    counts: bool,
 }
 
-/// The part of an edge inside the other body, in the pair frame, with a point at one of its ends
-/// (to tell its region).
-#[derive(Clone, Copy, Debug)]
-struct Interval {
-    start: DVec3,
-    end: DVec3,
-    anchor: u32,
-    /// Whether each end is a crossing point (not a vertex inside the other body).
-    crossing_ends: [bool; 2],
+impl Point {
+    /// A vertex spring: `depth` along the unit `normal` (the force on A).
+    fn spring(position: DVec3, depth: f64, normal: DVec3) -> Self {
+        Self {
+            position,
+            depth,
+            force: depth * normal,
+            potential: 0.5 * depth * depth,
+            counts: depth > 0.0,
+        }
+    }
+
+    /// A point that only marks the outline (a crossing).
+    fn mark(position: DVec3) -> Self {
+        Self {
+            position,
+            depth: 0.0,
+            force: DVec3::ZERO,
+            potential: 0.0,
+            counts: false,
+        }
+    }
 }
 
-/// A crossing of a segment through a face of a body: its parameter on the segment, the face, and
-/// the face's outward normal (body frame).
+/// A crossing of a segment through a face of a body: its parameter on the segment and the face.
 #[derive(Clone, Copy, Debug)]
 struct Crossing {
     t: f64,
     face: u32,
-    normal: DVec3,
 }
 
 /// Working memory of the region contacts, reused from pair to pair (one per thread).
@@ -93,10 +114,10 @@ pub struct RegionScratch {
     parent: Vec<u32>,
     /// (face of A, face of B) → crossing point.
     keys: Vec<(u64, u32)>,
-    intervals_a: Vec<Interval>,
-    intervals_b: Vec<Interval>,
     crossings: Vec<Crossing>,
     near: Vec<u32>,
+    /// Triangles that may be nearest to an edge part (`edge_spring`).
+    nearest: Vec<u32>,
     vertices: Vec<u32>,
     edges: Vec<u32>,
     /// (vertex, its point) for the vertices of A and of B inside the other.
@@ -116,8 +137,6 @@ impl RegionScratch {
         self.points.clear();
         self.parent.clear();
         self.keys.clear();
-        self.intervals_a.clear();
-        self.intervals_b.clear();
         self.inside_a.clear();
         self.inside_b.clear();
     }
@@ -198,13 +217,20 @@ impl Solid<'_> {
 
     /// The vertices inside `query` and the edges whose box meets it, sorted, into `vertices` and
     /// `edges`.
+    /// The vertices inside `query` (own frame) into `vertices`, and into `edges` the edges that
+    /// may cross the other body's surface: of a mesh, the edges of the triangles whose boxes, in
+    /// the other's frame (`to_other`), meet a triangle's box of the other (an edge through a
+    /// triangle has both its triangles meeting it); of a convex body, those whose box meets the
+    /// query. Both sorted. Returns false when no triangle meets: the bodies do not touch.
     fn near(
         &self,
         query: &Aabb,
+        other: Solid,
+        to_other: &Transform,
         near: &mut Vec<u32>,
         vertices: &mut Vec<u32>,
         edges: &mut Vec<u32>,
-    ) {
+    ) -> bool {
         vertices.clear();
         edges.clear();
         let inside = |p: DVec3| p.cmpge(query.min).all() && p.cmple(query.max).all();
@@ -217,27 +243,35 @@ impl Solid<'_> {
                     let [a, b] = p.edges()[e as usize].vertices.map(|i| p.vertices()[i]);
                     Aabb::new(a.min(b), a.max(b)).overlaps(query)
                 }));
+                true
             }
             Solid::Mesh(p) => {
                 p.bvh().overlapping(query, near);
                 let s = p.surface();
+                let other_box = other.bounds();
                 for &t in near.iter() {
-                    for &v in &p.triangles()[t as usize] {
+                    let corners = p.triangles()[t as usize];
+                    for &v in &corners {
                         if inside(p.vertices()[v]) {
                             vertices.push(v as u32);
                         }
                     }
-                    for &e in &s.triangle_edges()[t as usize] {
-                        let [a, b] = s.edges()[e as usize].map(|i| p.vertices()[i as usize]);
-                        if Aabb::new(a.min(b), a.max(b)).overlaps(query) {
-                            edges.push(e);
-                        }
+                    let [a, b, c] = corners.map(|i| to_other.apply(p.vertices()[i]));
+                    let tri = Aabb::new(a.min(b).min(c), a.max(b).max(c));
+                    let meets = tri.overlaps(&other_box)
+                        && match other {
+                            Solid::Convex(_) => true,
+                            Solid::Mesh(o) => !o.bvh().visit(|b| b.overlaps(&tri), |_| false),
+                        };
+                    if meets {
+                        edges.extend_from_slice(&s.triangle_edges()[t as usize]);
                     }
                 }
                 vertices.sort_unstable();
                 vertices.dedup();
                 edges.sort_unstable();
                 edges.dedup();
+                !edges.is_empty()
             }
         }
     }
@@ -246,19 +280,6 @@ impl Solid<'_> {
         match self {
             Solid::Convex(s) => s.locate(p),
             Solid::Mesh(s) => s.locate(p),
-        }
-    }
-
-    /// Whether the point is inside or within `tolerance` of the surface.
-    fn contains_within(&self, p: DVec3, tolerance: f64) -> bool {
-        match self {
-            Solid::Convex(s) => s
-                .faces()
-                .iter()
-                .all(|f| f.normal.dot(p) - f.offset <= tolerance),
-            Solid::Mesh(s) => {
-                s.locate(p) != Location::Outside || s.distance_to_surface(p) <= tolerance
-            }
         }
     }
 
@@ -335,7 +356,6 @@ impl Solid<'_> {
                         out.push(Crossing {
                             t,
                             face: face as u32,
-                            normal: s.faces()[face].normal,
                         });
                     }
                 }
@@ -359,7 +379,6 @@ impl Solid<'_> {
                     out.push(Crossing {
                         t: (sp / (sp - sq)).clamp(0.0, 1.0),
                         face: t,
-                        normal: s.normals()[t as usize],
                     });
                 }
                 out.sort_unstable_by(|x, y| x.t.total_cmp(&y.t).then(x.face.cmp(&y.face)));
@@ -469,7 +488,19 @@ pub fn solid_solid(
             edges,
             ..
         } = scratch;
-        own.near(&zone, near, vertices, edges);
+        // No triangle of this body near a triangle of the other (boxes): its surface near the
+        // other does not cross the other's, so its vertices there are all outside (the common
+        // case: bodies with arms have bounding spheres and boxes that overlap far more often
+        // than they touch) or all inside (deep); one tells which.
+        let meets = own.near(&zone, other, &to_other, near, vertices, edges);
+        if !meets
+            && vertices.first().is_none_or(|&v| {
+                let local = to_other.apply(own.vertex(v));
+                !contains(&other_box, local) || other.locate(local) != Location::Inside
+            })
+        {
+            continue;
+        }
         let candidates = std::mem::take(&mut scratch.vertices);
         for &v in &candidates {
             let local = to_other.apply(own.vertex(v));
@@ -477,11 +508,11 @@ pub fn solid_solid(
                 continue;
             }
             let (depth, n) = other.depth(local);
-            let point = scratch.push_point(Point {
-                position: to_pair.apply(own.vertex(v)),
+            let point = scratch.push_point(Point::spring(
+                to_pair.apply(own.vertex(v)),
                 depth,
-                normal: sign * (other_to_pair.rotation * n),
-            });
+                sign * (other_to_pair.rotation * n),
+            ));
             if is_a {
                 scratch.inside_a.push((v, point));
             } else {
@@ -489,6 +520,26 @@ pub fn solid_solid(
             }
         }
         scratch.vertices = candidates;
+        // Edges from vertices inside, which may lie wholly inside (deep).
+        if let Solid::Mesh(m) = own {
+            let inside = if is_a {
+                &scratch.inside_a
+            } else {
+                &scratch.inside_b
+            };
+            let before = scratch.edges.len();
+            for &(v, _) in inside.iter() {
+                for &t in m.surface().triangles_of_vertex(v) {
+                    scratch
+                        .edges
+                        .extend_from_slice(&m.surface().triangle_edges()[t as usize]);
+                }
+            }
+            if scratch.edges.len() > before {
+                scratch.edges.sort_unstable();
+                scratch.edges.dedup();
+            }
+        }
 
         // 2. Edges through the other's faces, and the parts of edges inside it.
         let edge_list = std::mem::take(&mut scratch.edges);
@@ -531,17 +582,14 @@ pub fn solid_solid(
                     }
                     if sharp {
                         let anchor = first.or(last).expect("one end is inside");
-                        let interval = Interval {
-                            start: pp,
-                            end: pq,
-                            anchor,
-                            crossing_ends: [false; 2],
+                        let part = EdgePart {
+                            p,
+                            q,
+                            t0: 0.0,
+                            t1: 1.0,
+                            ends: [first, last],
                         };
-                        if is_a {
-                            scratch.intervals_a.push(interval);
-                        } else {
-                            scratch.intervals_b.push(interval);
-                        }
+                        edge_spring(other, &part, &other_to_pair, sign, anchor, scratch);
                     }
                 }
                 scratch.crossings = crossings;
@@ -549,11 +597,7 @@ pub fn solid_solid(
             }
             let base = scratch.points.len() as u32;
             for c in &crossings {
-                let point = scratch.push_point(Point {
-                    position: at(c.t),
-                    depth: 0.0,
-                    normal: sign * (other_to_pair.rotation * c.normal),
-                });
+                let point = scratch.push_point(Point::mark(at(c.t)));
                 for f in faces {
                     let (fa, fb) = if is_a { (f, c.face) } else { (c.face, f) };
                     scratch.keys.push((((fa as u64) << 32) | fb as u64, point));
@@ -578,17 +622,17 @@ pub fn solid_solid(
                     scratch.union(s, e);
                 }
                 if let (true, Some(anchor)) = (sharp, start.or(end)) {
-                    let interval = Interval {
-                        start: at(t0),
-                        end: at(t1),
-                        anchor,
-                        crossing_ends: [j > 0, j < k],
+                    let part = EdgePart {
+                        p,
+                        q,
+                        t0,
+                        t1,
+                        ends: [
+                            if j == 0 { first } else { None },
+                            if j == k { last } else { None },
+                        ],
                     };
-                    if is_a {
-                        scratch.intervals_a.push(interval);
-                    } else {
-                        scratch.intervals_b.push(interval);
-                    }
+                    edge_spring(other, &part, &other_to_pair, sign, anchor, scratch);
                 }
             }
             scratch.crossings = crossings;
@@ -605,101 +649,174 @@ pub fn solid_solid(
         }
     }
 
-    // 3. Edge–edge points, within a region.
-    let (intervals_a, intervals_b) = (
-        std::mem::take(&mut scratch.intervals_a),
-        std::mem::take(&mut scratch.intervals_b),
-    );
-    let b_from_pair = Transform {
-        rotation: mb.transpose(),
-        translation: mb.transpose() * (-d),
-    };
-    for ia in &intervals_a {
-        for ib in &intervals_b {
-            if scratch.find(ia.anchor) != scratch.find(ib.anchor) {
-                continue;
-            }
-            let Some((qa, qb, end)) = edge_edge_points(ia, ib) else {
-                continue;
-            };
-            let dir = qb - qa;
-            let depth = dir.length();
-            if depth <= 0.0 {
-                continue;
-            }
-            // At an end, the part with the end must lie as deep in the other body as the point
-            // measures (a crossed beam): two edges meeting at one face plane of a body (the
-            // segment between them in that face) would otherwise measure a distance along the
-            // face, not a depth.
-            if let Some(at_a) = end {
-                let deepest = if at_a {
-                    b.depth(b_from_pair.apply(0.5 * (ia.start + ia.end))).0
-                } else {
-                    a.depth(ma.transpose() * (0.5 * (ib.start + ib.end))).0
-                };
-                if depth > deepest * (1.0 + 1e-9) + margin {
-                    continue;
-                }
-            }
-            // The segment between them must lie in the overlap (in a non-convex body it may
-            // leave it): its middle inside both, or on a surface to within rounding (when an edge
-            // leaves through a face, the segment lies in that face).
-            let middle = 0.5 * (qa + qb);
-            if !a.contains_within(ma.transpose() * middle, margin)
-                || !b.contains_within(b_from_pair.apply(middle), margin)
-            {
-                continue;
-            }
-            let point = scratch.push_point(Point {
-                position: middle,
-                depth,
-                normal: dir / depth,
-            });
-            scratch.union(point, ia.anchor);
-        }
-    }
-    scratch.intervals_a = intervals_a;
-    scratch.intervals_b = intervals_b;
-
     regions_of_points(scratch, pa.position, out);
 }
 
-/// The closest points of two edge parts inside the other body, for an edge–edge point: strictly
-/// inside both parts (as in the convex case), or strictly inside one and at an end of the other
-/// where that edge leaves the other body. The second case is an edge pressed into a face whose
-/// ends stick out past the face's sides (crossed beams): the edge leaves the other body through a
-/// side face, right at the other body's edge that bounds the face it presses into, and the two
-/// closest points measure its depth below that face. `None` for (nearly) parallel edges.
-///
-/// Also says which part's point is at an end (`Some(true)`: A's, `Some(false)`: B's).
-fn edge_edge_points(a: &Interval, b: &Interval) -> Option<(DVec3, DVec3, Option<bool>)> {
-    let (u, v, w) = (a.end - a.start, b.end - b.start, a.start - b.start);
-    let (uu, uv, vv, uw, vw) = (u.dot(u), u.dot(v), v.dot(v), u.dot(w), v.dot(w));
-    let det = uu * vv - uv * uv;
-    if det <= 1e-12 * uu * vv {
-        return None;
+/// The part [t0, t1] of an edge p q (in the other body's frame) inside the other body, and the
+/// points of the vertices at its ends, if they are inside.
+struct EdgePart {
+    p: DVec3,
+    q: DVec3,
+    t0: f64,
+    t1: f64,
+    ends: [Option<u32>; 2],
+}
+
+/// Golden-section steps of the search for an edge part's deepest point: the bracket shrinks to
+/// 0.618²⁴ ≈ 10⁻⁵ of the part.
+const GOLDEN_STEPS: usize = 24;
+
+/// The spring of an edge part inside the other body: at its deepest point, with depth D the
+/// distance from there to the other's surface (the most the edge penetrates), minus what the
+/// deeper of its end vertices already carries. Its potential is ½ (D² − d_end²) (per unit
+/// stiffness): zero when the deepest point is the end vertex itself (an edge inside a face
+/// contact adds nothing to its corners), D²/2 for an edge pressed into a face with both ends
+/// outside (crossed beams), and for two ridges crossing each contributes its own depth, which
+/// together make the convex case's edge–edge spring. The force is its gradient: k D g at the
+/// deepest point with g the derivative of D (the outward direction there; at a kink of the depth
+/// along the edge, where two faces are equally near, the mix of their normals that has no
+/// component along the edge: the deepest point is stationary, so its own motion does no work),
+/// and −k d_end n_end at the end vertex. D appears and vanishes with the part at zero, and equals
+/// d_end when the deepest point reaches the end: the force stays continuous.
+fn edge_spring(
+    other: Solid,
+    part: &EdgePart,
+    other_to_pair: &Transform,
+    sign: f64,
+    anchor: u32,
+    scratch: &mut RegionScratch,
+) {
+    let EdgePart { p, q, t0, t1, ends } = *part;
+    let length = (q - p).length() * (t1 - t0);
+    if length <= 0.0 {
+        return;
     }
-    let s = (uv * vw - vv * uw) / det;
-    let t = (uu * vw - uv * uw) / det;
-    const END: f64 = 1e-9;
-    let place = |x: f64, crossing_ends: [bool; 2]| {
-        if x > END && x < 1.0 - END {
-            Some(true) // interior
-        } else if (x.abs() <= END && crossing_ends[0])
-            || ((x - 1.0).abs() <= END && crossing_ends[1])
-        {
-            Some(false) // at a crossing end
-        } else {
-            None
+    // The deeper end vertex inside, whose spring already carries its depth.
+    let end_vertex = [(ends[0], 1.0), (ends[1], -1.0)]
+        .into_iter()
+        .filter_map(|(e, away)| e.map(|e| (e, away)))
+        .max_by(|&(i, _), &(j, _)| {
+            let (pi, pj) = (&scratch.points[i as usize], &scratch.points[j as usize]);
+            pi.depth.total_cmp(&pj.depth).then(j.cmp(&i))
+        });
+    if let Some((vertex, away)) = end_vertex {
+        // Depth not growing from the vertex into the part: in a convex body (where the depth
+        // along an edge is concave) the vertex is the deepest point.
+        let v = &scratch.points[vertex as usize];
+        let along = other_to_pair.rotation * (q - p) * away;
+        if v.force.dot(along) * sign >= 0.0 {
+            return;
+        }
+    }
+    let end_vertex = end_vertex.map(|(e, _)| e);
+    let x = |t: f64| p + (q - p) * t;
+    // The triangles of a mesh that can be nearest to a point of the part: within the middle's
+    // distance plus half the part's length of the part (distance is 1-Lipschitz).
+    if let Solid::Mesh(m) = other {
+        let middle = x(0.5 * (t0 + t1));
+        let (c, _) = m.closest_point(middle);
+        let r = (c - middle).length() + 0.5 * length;
+        let (a, b) = (x(t0), x(t1));
+        let query = Aabb::new(a.min(b), a.max(b)).enlarged(r * (1.0 + 1e-9));
+        m.bvh().overlapping(&query, &mut scratch.nearest);
+    }
+    let depth_at = |t: f64, near: &[u32]| -> (f64, DVec3) {
+        let y = x(t);
+        match other {
+            Solid::Convex(s) => {
+                let (mut best, mut normal) = (f64::INFINITY, DVec3::Z);
+                for f in s.faces() {
+                    let d = f.offset - f.normal.dot(y);
+                    if d < best {
+                        (best, normal) = (d, f.normal);
+                    }
+                }
+                (best.max(0.0), normal)
+            }
+            Solid::Mesh(m) => {
+                let (mut best, mut closest, mut tri) = (f64::INFINITY, y, 0u32);
+                for &t in near {
+                    let [a, b, c] = m.triangles()[t as usize].map(|i| m.vertices()[i]);
+                    let (z, _) = super::closest_point_on_triangle(y, a, b, c);
+                    let d = (z - y).length_squared();
+                    if d < best {
+                        (best, closest, tri) = (d, z, t);
+                    }
+                }
+                let d = best.sqrt();
+                let normal = if d > 1e-12 * m.bounding_radius() {
+                    (closest - y) / d
+                } else {
+                    m.normals()[tri as usize]
+                };
+                (d, normal)
+            }
         }
     };
-    match (place(s, a.crossing_ends), place(t, b.crossing_ends)) {
-        (Some(sa), Some(sb)) if sa || sb => Some((
-            a.start + u * s.clamp(0.0, 1.0),
-            b.start + v * t.clamp(0.0, 1.0),
-            (!(sa && sb)).then_some(!sa),
-        )),
-        _ => None,
+    // Golden-section search for the deepest point (the depth along a straight edge in a convex
+    // body is concave; in a non-convex one this finds a local maximum, deterministically).
+    let near_list = std::mem::take(&mut scratch.nearest);
+    let f = |t: f64| depth_at(t, &near_list).0;
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut lo, mut hi) = (t0, t1);
+    let (mut a, mut b) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+    let (mut fa, mut fb) = (f(a), f(b));
+    for _ in 0..GOLDEN_STEPS {
+        if fa < fb {
+            lo = a;
+            a = b;
+            fa = fb;
+            b = lo + ratio * (hi - lo);
+            fb = f(b);
+        } else {
+            hi = b;
+            b = a;
+            fb = fa;
+            a = hi - ratio * (hi - lo);
+            fa = f(a);
+        }
+    }
+    let (t, depth) = if fa >= fb { (a, fa) } else { (b, fb) };
+    let end_depth = end_vertex.map_or(0.0, |i| scratch.points[i as usize].depth);
+    if depth <= end_depth * (1.0 + 1e-9) {
+        // The deepest point is the end vertex: nothing to add.
+        scratch.nearest = near_list;
+        return;
+    }
+    // The derivative of the depth: the outward direction, or at a kink the mix of the two sides'
+    // directions with no component along the edge.
+    let u = (q - p).normalize();
+    let h = 1e-6 * (t1 - t0);
+    let (_, n1) = depth_at((t - h).max(t0), &near_list);
+    let (_, n2) = depth_at((t + h).min(t1), &near_list);
+    let (_, n0) = depth_at(t, &near_list);
+    let (a1, a2) = (n1.dot(u), n2.dot(u));
+    let g = if a1 < -1e-9 && a2 > 1e-9 {
+        let lambda = a2 / (a2 - a1);
+        lambda * n1 + (1.0 - lambda) * n2
+    } else {
+        n0
+    };
+    scratch.nearest = near_list;
+    let point = scratch.push_point(Point {
+        position: other_to_pair.apply(x(t)),
+        depth,
+        force: depth * sign * (other_to_pair.rotation * g),
+        potential: 0.5 * depth * depth,
+        counts: true,
+    });
+    scratch.union(point, anchor);
+    if let Some(vertex) = end_vertex {
+        // Take back the end vertex's spring once more (its own point carries it).
+        let v = scratch.points[vertex as usize];
+        let correction = scratch.push_point(Point {
+            position: v.position,
+            depth: 0.0,
+            force: -v.force,
+            potential: -v.potential,
+            counts: false,
+        });
+        scratch.union(correction, anchor);
     }
 }
 
@@ -789,11 +906,11 @@ fn region_geometries(
                 .map(|(i, _)| i)
         };
         let points = &scratch.points;
-        let total: f64 = members().map(|i| points[i].depth.max(0.0)).sum();
-        let Some(mut g) = springs(members().map(|i| {
-            let p = points[i];
-            (p.position + origin, p.depth, p.normal)
-        })) else {
+        let total: f64 = members()
+            .filter(|&i| points[i].counts)
+            .map(|i| points[i].depth)
+            .sum();
+        let Some(mut g) = aggregate(members().map(|i| &points[i]), origin) else {
             continue;
         };
         let area = projected_area(
@@ -807,6 +924,45 @@ fn region_geometries(
         result.push((g, total, r as usize));
     }
     result
+}
+
+/// One contact for the springs of a region: their resultant load Σ fᵢ, acting at the
+/// depth-weighted mean point of the springs, with the exact moment of the individual springs as a
+/// couple (as `dispatch::springs`, with signed contributions). `None` without a spring.
+fn aggregate<'p>(points: impl Iterator<Item = &'p Point>, origin: DVec3) -> Option<Geometry> {
+    let (mut load, mut weighted, mut total, mut potential, mut count) =
+        (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0, 0usize);
+    let mut first_moment = DVec3::ZERO;
+    for p in points {
+        let x = p.position + origin;
+        load += p.force;
+        first_moment += x.cross(p.force);
+        potential += p.potential;
+        if p.counts && p.depth > 0.0 {
+            weighted += p.depth * x;
+            total += p.depth;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let normal = load.try_normalize()?;
+    let centre = weighted / total;
+    Some(Geometry {
+        normal,
+        point: centre,
+        overlap: total / count as f64,
+        volume: Some(crate::contact_law::OverlapVolume {
+            law: crate::contact_law::PolyhedralLaw::Vertex,
+            points: count,
+            volume: 0.0,
+            area: 0.0,
+            load: load.length(),
+            couple: first_moment - centre.cross(load),
+            potential,
+        }),
+    })
 }
 
 /// Area of the convex hull of the points projected on the plane normal to `normal` (Andrew's
@@ -912,11 +1068,11 @@ pub fn mesh_plane(
     for &v in &candidates {
         let depth = height - n.dot(vertices[v as usize]);
         if depth > 0.0 {
-            let p = scratch.push_point(Point {
-                position: rotation * vertices[v as usize],
+            let p = scratch.push_point(Point::spring(
+                rotation * vertices[v as usize],
                 depth,
                 normal,
-            });
+            ));
             scratch.inside_a.push((v, p));
         }
     }
@@ -939,11 +1095,7 @@ pub fn mesh_plane(
                 let (dp, dq) = (height - n.dot(p), height - n.dot(q));
                 if dp != dq {
                     let x = p + (q - p) * (dp / (dp - dq));
-                    let c = scratch.push_point(Point {
-                        position: rotation * x,
-                        depth: 0.0,
-                        normal,
-                    });
+                    let c = scratch.push_point(Point::mark(rotation * x));
                     scratch.union(i, c);
                 }
             }
@@ -1063,9 +1215,13 @@ mod tests {
         assert_eq!(out.len(), 1, "{out:?}");
         let g = out[0];
         assert!((g.normal - DVec3::Z).length() < 1e-12, "{}", g.normal);
-        assert!((g.overlap - 0.1).abs() < 1e-12, "{}", g.overlap);
+        // Springs at the 4 bottom corners, 0.1 deep; the edges are deepest at their corners and
+        // add nothing.
         let v = g.volume.unwrap();
         assert_eq!(v.points, 4);
+        assert!((g.overlap - 0.1).abs() < 1e-12, "{}", g.overlap);
+        assert!((v.load - 0.4).abs() < 1e-12, "{}", v.load);
+        assert!((v.potential - 4.0 * 0.005).abs() < 1e-12, "{}", v.potential);
         assert!((v.area - 0.36).abs() < 1e-9, "{}", v.area);
         // Reversed order: the normal flips.
         solid_solid(
@@ -1105,7 +1261,7 @@ mod tests {
             "{}",
             out[0].normal
         );
-        assert!((out[0].overlap - 0.05).abs() < 1e-9, "{}", out[0].overlap);
+        assert!(out[0].overlap <= 0.05 + 1e-9, "{}", out[0].overlap);
     }
 
     #[test]
@@ -1188,5 +1344,77 @@ mod tests {
                 (g.normal + DVec3::X).length() < 1e-12 || (g.normal + DVec3::Y).length() < 1e-12
             );
         }
+    }
+
+    /// The mesh queries (hierarchy ray casting, nearest surface point, segment crossings) against
+    /// the convex ones, on random rocks given both ways: the same springs.
+    #[test]
+    fn a_rock_as_a_mesh_touches_like_the_rock() {
+        use crate::narrow_phase::convex_convex::tests::random_quat;
+        use crate::rng::SplitMix64;
+        let mut rng = SplitMix64::new(11);
+        let mut s = RegionScratch::new();
+        let (mut out, mut reference) = (Vec::new(), Vec::new());
+        let mut touching = 0;
+        for case in 0..40u64 {
+            let (a, _) = generators::random_rock(case, 18, DVec3::new(1.0, 0.8, 0.6), 1.0).unwrap();
+            let (b, _) = generators::random_rock(100 + case, 22, DVec3::ONE, 1.1).unwrap();
+            let (ma, mass, _) =
+                NonConvexPolyhedron::from_mesh(a.vertices(), a.triangles(), Default::default())
+                    .unwrap();
+            // Same edges both ways: every hull face a triangle, every mesh edge sharp.
+            let edges = ma.surface().edges().len();
+            if edges != a.edges().len() || (0..edges as u32).any(|e| !ma.is_sharp(e)) {
+                continue;
+            }
+            let (qa, qb) = (random_quat(&mut rng), random_quat(&mut rng));
+            let xa = DVec3::new(0.3, -0.2, 0.1);
+            let xb = xa + random_unit(&mut rng) * 0.85;
+            // The mesh's frame differs from the rock's by its principal axes, recomputed.
+            let pose_mesh = Pose {
+                position: xa + qa * mass.center_of_mass,
+                orientation: (qa * mass.principal_rotation()).normalize(),
+            };
+            let pb = Pose {
+                position: xb,
+                orientation: qb,
+            };
+            let pa = Pose {
+                position: xa,
+                orientation: qa,
+            };
+            solid_solid(
+                Solid::Convex(&a),
+                pa,
+                Solid::Convex(&b),
+                pb,
+                &mut s,
+                &mut reference,
+            );
+            solid_solid(
+                Solid::Mesh(&ma),
+                pose_mesh,
+                Solid::Convex(&b),
+                pb,
+                &mut s,
+                &mut out,
+            );
+            assert_eq!(out.len(), reference.len(), "case {case}");
+            for (g, r) in out.iter().zip(&reference) {
+                let (gv, rv) = (g.volume.unwrap(), r.volume.unwrap());
+                assert_eq!(gv.points, rv.points, "case {case}");
+                assert!(
+                    (g.normal * gv.load - r.normal * rv.load).length() < 1e-9,
+                    "case {case}"
+                );
+                assert!((gv.potential - rv.potential).abs() < 1e-9, "case {case}");
+                touching += 1;
+            }
+        }
+        assert!(touching > 10, "{touching}");
+    }
+
+    fn random_unit(rng: &mut crate::rng::SplitMix64) -> DVec3 {
+        DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize()
     }
 }
