@@ -776,27 +776,31 @@ fn edge_spring(
             fa = f(a);
         }
     }
-    let (t, depth) = if fa >= fb { (a, fa) } else { (b, fb) };
+    // The bracket [lo, hi] holds the maximum. Where the sides' nearest faces differ there is a
+    // kink: the maximum is where the two depths, linear in t for faces, meet, and the derivative
+    // of the depth is the mix of the two normals with no component along the edge.
+    let u = (q - p).normalize();
+    let span = (q - p).length();
+    let (d_lo, n_lo) = depth_at(lo, &near_list);
+    let (d_hi, n_hi) = depth_at(hi, &near_list);
+    let (a_lo, a_hi) = (n_lo.dot(u), n_hi.dot(u));
+    let (t, depth, g) = if a_lo < -1e-9 && a_hi > 1e-9 {
+        // d(t) = d_lo − a_lo·span·(t − lo) = d_hi − a_hi·span·(t − hi).
+        let t =
+            ((d_hi - d_lo + span * (a_hi * hi - a_lo * lo)) / (span * (a_hi - a_lo))).clamp(lo, hi);
+        let depth = d_lo - a_lo * span * (t - lo);
+        let lambda = a_hi / (a_hi - a_lo);
+        (t, depth, lambda * n_lo + (1.0 - lambda) * n_hi)
+    } else {
+        let (t, depth) = if fa >= fb { (a, fa) } else { (b, fb) };
+        (t, depth, depth_at(t, &near_list).1)
+    };
     let end_depth = end_vertex.map_or(0.0, |i| scratch.points[i as usize].depth);
     if depth <= end_depth * (1.0 + 1e-9) {
         // The deepest point is the end vertex: nothing to add.
         scratch.nearest = near_list;
         return;
     }
-    // The derivative of the depth: the outward direction, or at a kink the mix of the two sides'
-    // directions with no component along the edge.
-    let u = (q - p).normalize();
-    let h = 1e-6 * (t1 - t0);
-    let (_, n1) = depth_at((t - h).max(t0), &near_list);
-    let (_, n2) = depth_at((t + h).min(t1), &near_list);
-    let (_, n0) = depth_at(t, &near_list);
-    let (a1, a2) = (n1.dot(u), n2.dot(u));
-    let g = if a1 < -1e-9 && a2 > 1e-9 {
-        let lambda = a2 / (a2 - a1);
-        lambda * n1 + (1.0 - lambda) * n2
-    } else {
-        n0
-    };
     scratch.nearest = near_list;
     let point = scratch.push_point(Point {
         position: other_to_pair.apply(x(t)),
