@@ -51,7 +51,7 @@ pub struct Conditions<'a> {
 ///   bodies, m* = m/2 (Cundall & Strack 1979 take a fraction of √(m/k));
 /// - polyhedra: 1/[`STEPS_PER_CONTACT`] of the duration π √(m*/k) of a flat contact: under the
 ///   volume law k = E* A/R* for the largest face A; under the vertex law (non-convex meshes)
-///   k = 2 n E* R* for the n corners of the largest flat face.
+///   k = n E* R* for the n corners of the largest flat face.
 pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Option<Estimate> {
     let mut best: Option<Estimate> = None;
     let mut consider = |seconds: f64, reason: &dyn Fn() -> String| {
@@ -73,9 +73,8 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
             ) {
                 let e = effective_modulus(m, other);
                 let (stiffness, how) = match body.vertex_springs {
-                    // Vertex law: springs E* R* at the face's corners, and as many again for the
-                    // other body's corners and crossing edges.
-                    Some(n) => (e * r * (2 * n) as f64, "vertex springs of a flat face"),
+                    // Vertex law: springs E* R* at the face's corners.
+                    Some(n) => (e * r * n as f64, "vertex springs of a flat face"),
                     None => (e * area / r, "face-on"),
                 };
                 let duration = PI * (mass / stiffness).sqrt();

@@ -11,7 +11,7 @@
 //! Every query visits the tree in a fixed order and reports triangles in that order, so results
 //! never depend on anything but the mesh and the query.
 
-use crate::math::{Aabb, DVec3};
+use crate::math::{Aabb, DMat3, DVec3};
 
 /// Triangles per leaf at most.
 const LEAF_SIZE: usize = 4;
@@ -261,6 +261,79 @@ fn build(
     index
 }
 
+impl Bvh {
+    /// Whether some triangle's box of this tree, moved by `rotation` and `translation` (as the
+    /// box around the moved box), overlaps some triangle's box of `other`: a simultaneous descent
+    /// of both trees that prunes every pair of subtrees whose boxes are apart, and stops at the
+    /// first overlapping pair of triangles. Two bodies whose surfaces come near each other pass;
+    /// most pairs that only the bounding spheres put together fail in a few steps.
+    pub fn meets(&self, other: &Bvh, rotation: DMat3, translation: DVec3) -> bool {
+        if self.nodes.is_empty() || other.nodes.is_empty() {
+            return false;
+        }
+        let abs = DMat3::from_cols(
+            rotation.x_axis.abs(),
+            rotation.y_axis.abs(),
+            rotation.z_axis.abs(),
+        );
+        let moved = |b: &Aabb| {
+            let centre = rotation * (0.5 * (b.min + b.max)) + translation;
+            let half = abs * (0.5 * (b.max - b.min));
+            Aabb::new(centre - half, centre + half)
+        };
+        // Pairs (node of self, node of other) still to look at.
+        let mut stack = [(0u32, 0u32); 2 * STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (i, j) = stack[top];
+            let (a, b) = (&self.nodes[i as usize], &other.nodes[j as usize]);
+            let box_a = moved(&a.bounds);
+            if !box_a.overlaps(&b.bounds) {
+                continue;
+            }
+            match (a.count > 0, b.count > 0) {
+                (true, true) => {
+                    let range_a = a.first as usize..(a.first + a.count) as usize;
+                    let range_b = b.first as usize..(b.first + b.count) as usize;
+                    for ta in &self.boxes[range_a] {
+                        let ta = moved(ta);
+                        if other.boxes[range_b.clone()]
+                            .iter()
+                            .any(|tb| ta.overlaps(tb))
+                        {
+                            return true;
+                        }
+                    }
+                }
+                // Descend into the leaf-less side, or the larger box.
+                (false, true) => {
+                    stack[top] = (i + 1, j);
+                    stack[top + 1] = (a.first, j);
+                    top += 2;
+                }
+                (true, false) => {
+                    stack[top] = (i, j + 1);
+                    stack[top + 1] = (i, b.first);
+                    top += 2;
+                }
+                (false, false) => {
+                    let size = |b: &Aabb| b.extent().length_squared();
+                    if size(&box_a) >= size(&b.bounds) {
+                        stack[top] = (i + 1, j);
+                        stack[top + 1] = (a.first, j);
+                    } else {
+                        stack[top] = (i, j + 1);
+                        stack[top + 1] = (i, b.first);
+                    }
+                    top += 2;
+                }
+            }
+        }
+        false
+    }
+}
+
 /// Whether the line x = point + s · direction, s ∈ ℝ, meets the closed box (slab test).
 pub fn line_meets_box(point: DVec3, direction: DVec3, b: &Aabb) -> bool {
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -378,6 +451,43 @@ mod tests {
                 assert_eq!((q - c).length_squared(), d2);
                 assert!((k as usize) < n);
                 assert!(bvh.closest_point(c, &v, &t, 0.5 * brute).is_none() || brute == 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn meets_agrees_with_brute_force() {
+        let mut rng = SplitMix64::new(9);
+        for n in [1, 7, 60] {
+            let (v1, t1) = random_soup(&mut rng, n);
+            let (v2, t2) = random_soup(&mut rng, n + 3);
+            let (b1, b2) = (Bvh::new(&v1, &t1), Bvh::new(&v2, &t2));
+            for _ in 0..200 {
+                let q = crate::math::DQuat::from_axis_angle(
+                    DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize(),
+                    rng.uniform(0.0, 3.0),
+                );
+                let r = DMat3::from_quat(q);
+                let shift = DVec3::new(
+                    rng.uniform(-3.0, 3.0),
+                    rng.uniform(-3.0, 3.0),
+                    rng.uniform(-3.0, 3.0),
+                );
+                let moved_box = |k: usize| {
+                    let [a, b, c] = t1[k].map(|i| v1[i]);
+                    let bx = Aabb::new(a.min(b).min(c), a.max(b).max(c));
+                    let abs = DMat3::from_cols(r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs());
+                    let centre = r * (0.5 * (bx.min + bx.max)) + shift;
+                    let half = abs * (0.5 * (bx.max - bx.min));
+                    Aabb::new(centre - half, centre + half)
+                };
+                let expected = (0..t1.len()).any(|k| {
+                    (0..t2.len()).any(|m| {
+                        let [a, b, c] = t2[m].map(|i| v2[i]);
+                        moved_box(k).overlaps(&Aabb::new(a.min(b).min(c), a.max(b).max(c)))
+                    })
+                });
+                assert_eq!(b1.meets(&b2, r, shift), expected);
             }
         }
     }

@@ -464,6 +464,16 @@ pub fn solid_solid(
         rotation: ma.transpose() * mb,
         translation: ma.transpose() * d,
     };
+    // Two meshes: are any of their triangles' boxes near each other at all? (Bodies with arms,
+    // like crosses and stars, have bounding spheres that overlap far more often than they touch.)
+    if let (Solid::Mesh(ma), Solid::Mesh(mb)) = (a, b) {
+        if !ma
+            .bvh()
+            .meets(mb.bvh(), a_to_b.rotation, a_to_b.translation)
+        {
+            return;
+        }
+    }
     // Each body's box in the other's frame, cut to the other's box: where the overlap can be.
     let size = a.bounding_radius() + b.bounding_radius();
     let margin = 1e-9 * size;
