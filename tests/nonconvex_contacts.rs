@@ -328,3 +328,102 @@ until = 0.3
     }
     assert!(angles[0] > angles[1] + 10.0, "{angles:?}");
 }
+
+/// One L-shaped block described two ways: as its mesh (vertex law, the default for non-convex
+/// bodies) and as the union of its two convex boxes (volume law, part by part; the two parts'
+/// contacts with the floor combine into one, as the mesh's is one region). Dropped the same way
+/// they must behave alike: the same resting pose, and the same rebound (the damping is set from
+/// the coefficient of restitution for either law, so the first bounce of a flat drop reaches e²
+/// of the height, whatever the stiffness).
+#[test]
+fn an_l_shape_as_mesh_and_as_convex_parts_behaves_alike() {
+    let scene = |parts: bool, restitution: f64, height: f64, rotation: [f64; 3]| {
+        format!(
+            r#"
+[simulation]
+duration = 1.0
+gravity = [0.0, 0.0, -9.81]
+threads = 1
+
+[[material]]
+name = "m"
+density = 2500.0
+youngs_modulus = 1.0e6
+poisson_ratio = 0.25
+restitution = {restitution}
+friction = 0.5
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "m"
+
+[shape.l]
+type = "l_shape"
+length_x = 0.03
+length_y = 0.02
+width = 0.008
+height = 0.006
+parts = {parts}
+
+[[particle]]
+shape = "l"
+material = "m"
+position = [0.0, 0.0, {height}]
+rotation = {rotation:?}
+"#
+        )
+    };
+    // Resting pose after a tilted drop: which way is up in the body, and the height.
+    let mut poses = Vec::new();
+    for parts in [false, true] {
+        let mut p = build(&scene(parts, 0.3, 0.02, [0.35, 0.25, 0.4]));
+        let w = &mut p.world;
+        w.run_steps((0.8 / w.time_step) as u64);
+        let up = w.bodies.orientation[0].inverse() * DVec3::Z;
+        let speed = w.bodies.velocity[0].length();
+        println!(
+            "parts = {parts}: at rest {speed:.1e} m/s, centre at height {:.6} m, up in the body \
+             {:.4?}",
+            w.bodies.position[0].z,
+            up.to_array()
+        );
+        assert!(speed < 1e-5);
+        poses.push((w.bodies.position[0].z, up));
+    }
+    let ((z0, up0), (z1, up1)) = (poses[0], poses[1]);
+    assert!(up0.angle_between(up1) < 0.01, "{up0} vs {up1}");
+    assert!((z0 - z1).abs() < 0.02 * z0, "{z0} vs {z1}");
+
+    // Rebound of a flat drop (lying on its L face): the first apex over the drop height.
+    let mut ratios = Vec::new();
+    for parts in [false, true] {
+        // The shape's own frame has its bottom face at z = 0: placed at height h, it falls h.
+        let h = 0.01;
+        let mut p = build(&scene(parts, 0.5, h, [0.0; 3]));
+        let w = &mut p.world;
+        let mut touched = false;
+        let mut apex = 0.0f64;
+        while w.time < 0.25 {
+            w.run_steps(1);
+            let z = w.bodies.position[0].z - 0.003;
+            if !w.plane_contacts.is_empty() {
+                touched = true;
+            } else if touched {
+                apex = apex.max(z);
+                if w.bodies.velocity[0].z < 0.0 {
+                    break;
+                }
+            }
+        }
+        let ratio = apex / h;
+        println!("parts = {parts}: rebound to {ratio:.4} of the drop height (e² = 0.25)");
+        ratios.push(ratio);
+    }
+    // The vertex law's springs sit at the L's corners, whose centroid is not under the centre of
+    // mass: the mesh leaves the floor slightly turning, with a little of the energy in rotation.
+    for r in &ratios {
+        assert!((r / 0.25 - 1.0).abs() < 0.1, "{ratios:?}");
+    }
+    assert!((ratios[0] / ratios[1] - 1.0).abs() < 0.06, "{ratios:?}");
+}

@@ -107,15 +107,18 @@ fn part_pose(part: &ConvexPart, x: DVec3, q: DQuat) -> (DVec3, DQuat) {
 enum Description<'a> {
     Sphere(f64),
     /// Convex pieces, each with its pose: one convex polyhedron, or the convex parts of a
-    /// non-convex body.
-    Pieces(Vec<(&'a ConvexPolyhedron, DVec3, DQuat)>),
+    /// non-convex body (then also the body, which knows which parts touch).
+    Pieces(
+        Vec<(&'a ConvexPolyhedron, DVec3, DQuat)>,
+        Option<&'a NonConvexPolyhedron>,
+    ),
     Mesh(&'a NonConvexPolyhedron),
 }
 
 fn description<'a>(body: &Posed<'a>, prefer_parts: bool) -> Description<'a> {
     match body.shape {
         Shape::Sphere(s) => Description::Sphere(s.radius),
-        Shape::Convex(p) => Description::Pieces(vec![(p, body.position, body.orientation)]),
+        Shape::Convex(p) => Description::Pieces(vec![(p, body.position, body.orientation)], None),
         Shape::NonConvex(p) if prefer_parts && !p.parts().is_empty() => Description::Pieces(
             p.parts()
                 .iter()
@@ -124,6 +127,7 @@ fn description<'a>(body: &Posed<'a>, prefer_parts: bool) -> Description<'a> {
                     (&part.shape, x, q)
                 })
                 .collect(),
+            Some(p),
         ),
         Shape::NonConvex(p) => Description::Mesh(p),
     }
@@ -174,29 +178,39 @@ pub fn body_body_regions(
                 g.normal = -g.normal;
             }
         }
-        (Description::Pieces(pieces), Description::Sphere(r)) => {
-            for (p, x, q) in pieces {
-                out.extend(convex_sphere_geometry(p, x, q, b.position, r));
+        (Description::Pieces(pieces, body), Description::Sphere(r)) => {
+            let mut found = Vec::new();
+            for (k, (p, x, q)) in pieces.into_iter().enumerate() {
+                found.extend(convex_sphere_geometry(p, x, q, b.position, r).map(|g| (g, k, 0)));
             }
+            merge_part_contacts(&mut found, body, None, Merge::Deepest, out);
         }
-        (Description::Sphere(r), Description::Pieces(pieces)) => {
-            for (p, x, q) in pieces {
-                out.extend(
-                    convex_sphere_geometry(p, x, q, a.position, r).map(|g| Geometry {
+        (Description::Sphere(r), Description::Pieces(pieces, body)) => {
+            let mut found = Vec::new();
+            for (k, (p, x, q)) in pieces.into_iter().enumerate() {
+                found.extend(convex_sphere_geometry(p, x, q, a.position, r).map(|g| {
+                    let g = Geometry {
                         normal: -g.normal,
                         ..g
-                    }),
-                );
+                    };
+                    (g, 0, k)
+                }));
             }
+            merge_part_contacts(&mut found, None, body, Merge::Deepest, out);
         }
-        (Description::Pieces(pa), Description::Pieces(pb)) => {
-            for &(p, x, q) in &pa {
-                for &(r, y, s) in &pb {
-                    out.extend(convex_pair(p, x, q, r, y, s, law, &mut scratch.clip));
+        (Description::Pieces(pa, body_a), Description::Pieces(pb, body_b)) => {
+            let mut found = Vec::new();
+            for (i, &(p, x, q)) in pa.iter().enumerate() {
+                for (j, &(r, y, s)) in pb.iter().enumerate() {
+                    found.extend(
+                        convex_pair(p, x, q, r, y, s, law, &mut scratch.clip).map(|g| (g, i, j)),
+                    );
                 }
             }
+            merge_part_contacts(&mut found, body_a, body_b, Merge::Sum, out);
         }
         (da, db) => {
+            #[allow(clippy::needless_pass_by_value)]
             fn solid<'s>(d: Description<'s>, body: &Posed<'s>) -> Solid<'s> {
                 match (d, body.shape) {
                     (Description::Mesh(m), _) => Solid::Mesh(m),
@@ -209,6 +223,105 @@ pub fn body_body_regions(
         }
     }
     cap(out);
+}
+
+/// How the contacts of touching parts with one region of the other body combine.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Merge {
+    /// Into one contact carrying all their springs (polyhedra): one dashpot for the region, as
+    /// the body described by its mesh has, so that restitution and rocking match.
+    Sum,
+    /// Only the deepest (a sphere over the seam of two parts presses on one surface, not two).
+    Deepest,
+}
+
+/// Contacts of touching parts, with normals within 5°, are one region of the body: combines
+/// each such group of `found` (geometry, part of the first body, part of the second) into one
+/// contact, appended to `out`. `None` for a body stands for a single piece.
+fn merge_part_contacts(
+    found: &mut [(Geometry, usize, usize)],
+    body_a: Option<&NonConvexPolyhedron>,
+    body_b: Option<&NonConvexPolyhedron>,
+    how: Merge,
+    out: &mut Vec<Geometry>,
+) {
+    let n = found.len();
+    let near = |body: Option<&NonConvexPolyhedron>, i: usize, j: usize| {
+        i == j || body.is_some_and(|b| b.parts_adjacent(i, j))
+    };
+    let cos_limit = 5f64.to_radians().cos();
+    let mut group: Vec<usize> = (0..n).collect();
+    for k in 0..n {
+        for l in 0..k {
+            let ((gk, ak, bk), (gl, al, bl)) = (found[k], found[l]);
+            if near(body_a, ak, al) && near(body_b, bk, bl) && gk.normal.dot(gl.normal) >= cos_limit
+            {
+                // Join k's group into l's (groups are labelled by their first member).
+                let (from, to) = (group[k].max(group[l]), group[k].min(group[l]));
+                for g in group.iter_mut() {
+                    if *g == from {
+                        *g = to;
+                    }
+                }
+            }
+        }
+    }
+    for first in 0..n {
+        let mut members = (0..n).filter(|&k| group[k] == first).map(|k| found[k].0);
+        let Some(mut merged) = members.next() else {
+            continue;
+        };
+        for g in members {
+            merged = match how {
+                Merge::Deepest if g.overlap > merged.overlap => g,
+                Merge::Deepest => merged,
+                Merge::Sum => sum_geometries(&merged, &g),
+            };
+        }
+        out.push(merged);
+    }
+}
+
+/// One contact carrying the springs (or the foundation) of two: their loads add as vectors and
+/// their moments about the new contact point, the volume- (or depth-) weighted mean of the two.
+fn sum_geometries(a: &Geometry, b: &Geometry) -> Geometry {
+    let (Some(va), Some(vb)) = (a.volume, b.volume) else {
+        return if a.overlap >= b.overlap { *a } else { *b };
+    };
+    let (la, lb) = (a.normal * va.load, b.normal * vb.load);
+    let load = la + lb;
+    let (wa, wb) = match va.law {
+        PolyhedralLaw::Volume => (va.volume, vb.volume),
+        PolyhedralLaw::Vertex => (a.overlap * va.points as f64, b.overlap * vb.points as f64),
+    };
+    let total = wa + wb;
+    let point = if total > 0.0 {
+        (a.point * wa + b.point * wb) / total
+    } else {
+        0.5 * (a.point + b.point)
+    };
+    let couple = va.couple + vb.couple + (a.point - point).cross(la) + (b.point - point).cross(lb);
+    let area = va.area + vb.area;
+    let points = va.points + vb.points;
+    let overlap = match va.law {
+        PolyhedralLaw::Volume if area > 0.0 => (va.volume + vb.volume) / area,
+        _ if points > 0 => total / points as f64,
+        _ => a.overlap.max(b.overlap),
+    };
+    Geometry {
+        normal: load.try_normalize().unwrap_or(a.normal),
+        point,
+        overlap,
+        volume: Some(OverlapVolume {
+            law: va.law,
+            points,
+            volume: va.volume + vb.volume,
+            area,
+            load: load.length(),
+            couple,
+            potential: va.potential + vb.potential,
+        }),
+    }
 }
 
 /// Keeps at most `MAX_REGIONS` contacts, the deepest (part pairs can touch in more places than
@@ -235,10 +348,14 @@ pub fn body_plane_regions(
     out.clear();
     match a.shape {
         Shape::NonConvex(p) if !p.parts().is_empty() => {
-            for part in p.parts() {
+            let mut found = Vec::new();
+            for (k, part) in p.parts().iter().enumerate() {
                 let (x, q) = part_pose(part, a.position, a.orientation);
-                out.extend(convex_plane_geometry(&part.shape, x, q, point, normal, law));
+                found.extend(
+                    convex_plane_geometry(&part.shape, x, q, point, normal, law).map(|g| (g, k, 0)),
+                );
             }
+            merge_part_contacts(&mut found, Some(p), None, Merge::Sum, out);
             cap(out);
         }
         Shape::NonConvex(p) => mesh_plane(p, pose(&a), point, normal, scratch, out),

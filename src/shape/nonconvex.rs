@@ -88,6 +88,8 @@ pub struct NonConvexPolyhedron {
     /// edges that are not sharp).
     largest_face: (f64, usize),
     parts: Vec<ConvexPart>,
+    /// Row-major: whether parts i and j touch (their boxes in the body frame meet).
+    adjacent: Vec<bool>,
 }
 
 impl PartialEq for NonConvexPolyhedron {
@@ -165,6 +167,7 @@ impl NonConvexPolyhedron {
             principal_moments: mass.principal_moments,
             largest_face,
             parts: Vec::new(),
+            adjacent: Vec::new(),
         })
     }
 
@@ -211,8 +214,31 @@ impl NonConvexPolyhedron {
                 mesh: self.volume,
             });
         }
+        // Parts touch when their boxes in the body frame meet (to within rounding).
+        let boxes: Vec<Aabb> = built
+            .iter()
+            .map(|part| {
+                let (lo, hi) = part.shape.vertices().iter().fold(
+                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                    |(lo, hi), &v| {
+                        let x = part.offset + part.rotation * v;
+                        (lo.min(x), hi.max(x))
+                    },
+                );
+                Aabb::new(lo, hi).enlarged(1e-9 * size)
+            })
+            .collect();
+        let n = built.len();
+        self.adjacent = (0..n * n)
+            .map(|k| k / n != k % n && boxes[k / n].overlaps(&boxes[k % n]))
+            .collect();
         self.parts = built;
         Ok(self)
+    }
+
+    /// Whether convex parts `i` and `j` touch (share a face or an edge).
+    pub fn parts_adjacent(&self, i: usize, j: usize) -> bool {
+        self.adjacent[i * self.parts.len() + j]
     }
 
     pub fn vertices(&self) -> &[DVec3] {
