@@ -398,9 +398,9 @@ rotation = {rotation:?}
     // Rebound of a flat drop (lying on its L face): the first apex over the drop height.
     let mut ratios = Vec::new();
     for parts in [false, true] {
-        // The shape's own frame has its bottom face at z = 0: placed at height h, it falls h.
+        // Centred: placed at 0.003 + h, its bottom face falls h.
         let h = 0.01;
-        let mut p = build(&scene(parts, 0.5, h, [0.0; 3]));
+        let mut p = build(&scene(parts, 0.5, 0.003 + h, [0.0; 3]));
         let w = &mut p.world;
         let mut touched = false;
         let mut apex = 0.0f64;

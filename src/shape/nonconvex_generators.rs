@@ -1,7 +1,7 @@
 //! Built-in non-convex shapes: a 3-D cross ("jack"), a flat cross, an L-shape, a ring (hollow
 //! cylinder) and a star (a polyhedron with a pyramid on every face). Each comes as a closed
-//! outward mesh and as its exact decomposition into disjoint convex parts, both centred on the
-//! origin of the frame they are described in.
+//! outward mesh and as its exact decomposition into disjoint convex parts, centred on the origin
+//! of the frame they are described in (the L-shape on its bounding box).
 //!
 //! The box-like shapes are unions of cells of a rectilinear grid, and their surface is made of the
 //! grid faces between a filled and an empty cell (two triangles each): such a surface is closed,
@@ -112,7 +112,8 @@ pub fn cross(length: f64, width: f64, thickness: f64) -> Result<NonConvexMesh, S
 }
 
 /// An L-shaped prism: in the xy plane an arm of `length_x` along x and one of `length_y` along y,
-/// both `width` wide, meeting at a square corner; `height` along z.
+/// both `width` wide, meeting at a square corner (at −x, −y); `height` along z. Centred on its
+/// bounding box.
 pub fn l_shape(
     length_x: f64,
     length_y: f64,
@@ -130,12 +131,17 @@ pub fn l_shape(
             "the width ({w}) must be smaller than both lengths ({a}, {b})"
         )));
     }
-    let (vertices, triangles) = grid_union(&[0.0, w, a], &[0.0, w, b], &[0.0, h], |i, j, _| {
-        i == 0 || j == 0
-    });
+    // Centred on its bounding box, as every built-in shape.
+    let (x0, y0, z0) = (-a / 2.0, -b / 2.0, -h / 2.0);
+    let (vertices, triangles) = grid_union(
+        &[x0, x0 + w, x0 + a],
+        &[y0, y0 + w, y0 + b],
+        &[z0, z0 + h],
+        |i, j, _| i == 0 || j == 0,
+    );
     let parts = vec![
-        box_corners([0.0, a], [0.0, w], [0.0, h]),
-        box_corners([0.0, w], [w, b], [0.0, h]),
+        box_corners([x0, x0 + a], [y0, y0 + w], [z0, z0 + h]),
+        box_corners([x0, x0 + w], [y0 + w, y0 + b], [z0, z0 + h]),
     ];
     Ok(NonConvexMesh {
         vertices,
