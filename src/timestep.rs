@@ -12,6 +12,9 @@ pub struct Candidate {
     pub material: u32,
     /// For a polyhedron: its volume-equivalent radius and largest face area (see below).
     pub polyhedron: Option<(f64, f64)>,
+    /// For a body under the vertex law (a non-convex mesh): the corners of its largest flat
+    /// face, the springs a flat contact can hold (see below).
+    pub vertex_springs: Option<usize>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -45,7 +48,10 @@ pub struct Conditions<'a> {
 ///   δ_max = (15 m* v²/(16 E* √R*))^{2/5} (Johnson 1985 §11.1). Impacts shorten with speed, and
 ///   soft DEM materials make them short compared with T_R;
 /// - linear spring: 1/[`STEPS_PER_CONTACT`] of the contact duration π √(m*/k) of the lightest
-///   bodies, m* = m/2 (Cundall & Strack 1979 take a fraction of √(m/k)).
+///   bodies, m* = m/2 (Cundall & Strack 1979 take a fraction of √(m/k));
+/// - polyhedra: 1/[`STEPS_PER_CONTACT`] of the duration π √(m*/k) of a flat contact: under the
+///   volume law k = E* A/R* for the largest face A; under the vertex law (non-convex meshes)
+///   k = n E* R* for the n corners of the largest flat face.
 pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Option<Estimate> {
     let mut best: Option<Estimate> = None;
     let mut consider = |seconds: f64, reason: &dyn Fn() -> String| {
@@ -65,12 +71,17 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
                     .iter()
                     .map(|&w| (&c.materials[w as usize], body.mass, radius)),
             ) {
-                let stiffness = effective_modulus(m, other) * area / r;
+                let e = effective_modulus(m, other);
+                let (stiffness, how) = match body.vertex_springs {
+                    // Vertex law: springs E* R* at the face's corners.
+                    Some(n) => (e * r * n as f64, "vertex springs of a flat face"),
+                    None => (e * area / r, "face-on"),
+                };
                 let duration = PI * (mass / stiffness).sqrt();
                 consider(duration / STEPS_PER_CONTACT, &|| {
                     format!(
                         "1/{STEPS_PER_CONTACT} of the contact duration {duration:.3e} s of a \
-                         polyhedron ('{}', mass {:.3e} kg) pressed face-on against a '{}' face",
+                         polyhedron ('{}', mass {:.3e} kg) pressed {how} against a '{}' face",
                         m.name, body.mass, other.name
                     )
                 });
@@ -171,6 +182,7 @@ mod tests {
             mass: 2500.0 * 4.0 / 3.0 * PI * 0.004f64.powi(3),
             material: 0,
             polyhedron: None,
+            vertex_springs: None,
         };
         let conditions = |v| Conditions {
             materials: &materials,

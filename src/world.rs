@@ -3,13 +3,16 @@
 use crate::body::{Bodies, BodyInit};
 use crate::broad_phase::{self, BroadPhase, Pair};
 use crate::contact::ContactList;
+use crate::contact::{assign_slots, Contact};
 use crate::contact_law::{self, Kinematics, PolyhedralLaw};
 use crate::energy::EnergyReport;
 use crate::flow::FlowMeter;
 use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
-use crate::narrow_phase::{self, ClipScratch, ConvexMeshScratch, Geometry, MeshScratch};
+use crate::narrow_phase::{
+    self, ClipScratch, ConvexMeshScratch, Geometry, MeshScratch, RegionScratch, MAX_REGIONS,
+};
 use crate::shape::Shape;
 use crate::wall::MeshWall;
 use crate::wall::Plane;
@@ -98,6 +101,8 @@ pub struct World {
     /// One slot per candidate pair (or body and plane, or body, mesh wall and region) for the
     /// narrow phase's answer.
     detected: Vec<Option<Geometry>>,
+    /// Contacts of pairs that may touch in several regions (non-convex bodies).
+    regions: RegionBuffers,
     velocity_end: Vec<DVec3>,
     angular_velocity_end: Vec<DVec3>,
     forces_current: bool,
@@ -148,6 +153,7 @@ impl World {
             pairs: Vec::new(),
             found: Vec::new(),
             detected: Vec::new(),
+            regions: RegionBuffers::default(),
             velocity_end: Vec::new(),
             angular_velocity_end: Vec::new(),
             forces_current: false,
@@ -357,24 +363,57 @@ impl World {
         let detected = &mut self.detected;
         detected.clear();
         detected.resize(self.pairs.len(), None);
+        let regional = |i: u32| shapes[bodies.shape[i as usize] as usize].has_regions();
+        let any_regional = shapes.iter().any(Shape::has_regions);
         detected
             .par_iter_mut()
             .zip(self.pairs.par_iter())
             .with_min_len(256)
             .for_each_init(ClipScratch::default, |scratch, (slot, &(i, j))| {
-                *slot = narrow_phase::body_body(posed(i as usize), posed(j as usize), law, scratch);
+                *slot = if any_regional && (regional(i) || regional(j)) {
+                    None // below, region by region
+                } else {
+                    narrow_phase::body_body(posed(i as usize), posed(j as usize), law, scratch)
+                };
             });
-        self.found.clear();
-        self.found.extend(
-            self.pairs
-                .iter()
-                .zip(detected.iter())
-                .filter_map(|(&(i, j), g)| g.map(|g| (i, j, g))),
-        );
-        self.dissipated += self.contacts.update(&self.found);
+        // Pairs that may touch in several regions: up to MAX_REGIONS contacts each.
+        let r = &mut self.regions;
+        r.items.clear();
+        if any_regional {
+            r.items.extend((0..self.pairs.len() as u32).filter(|&k| {
+                regional(self.pairs[k as usize].0) || regional(self.pairs[k as usize].1)
+            }));
+        }
+        r.detect(|k, scratch, out| {
+            let (i, j) = self.pairs[k as usize];
+            narrow_phase::body_body_regions(
+                posed(i as usize),
+                posed(j as usize),
+                law,
+                scratch,
+                out,
+            );
+        });
+        r.found.clear();
+        let mut cursor = 0;
+        let mut next = 0;
+        for (k, &(i, j)) in self.pairs.iter().enumerate() {
+            if r.items.get(next) == Some(&(k as u32)) {
+                let reach = 0.5
+                    * bodies.equivalent_radius[i as usize]
+                        .min(bodies.equivalent_radius[j as usize]);
+                let previous = self.contacts.of_pair(i, j, &mut cursor);
+                r.gather(next, i, j, previous, reach);
+                next += 1;
+            } else if let Some(g) = detected[k] {
+                r.found.push((i, j, 0, g));
+            }
+        }
+        self.dissipated += self.contacts.update_slots(&self.regions.found);
 
         let planes = &self.planes;
-        self.found.clear();
+        let r = &mut self.regions;
+        r.found.clear();
         if !planes.is_empty() {
             detected.clear();
             detected.resize(bodies.len() * planes.len(), None);
@@ -383,18 +422,49 @@ impl World {
                 .enumerate()
                 .with_min_len(256)
                 .for_each(|(a, slots)| {
+                    if any_regional && regional(a as u32) {
+                        return; // below, region by region
+                    }
                     for (slot, plane) in slots.iter_mut().zip(planes) {
                         *slot = narrow_phase::body_plane(posed(a), plane.point, plane.normal, law);
                     }
                 });
+            // Bodies that may touch a plane in several regions: each (body, plane) an item.
             let per_body = planes.len();
-            self.found.extend(
-                detected.iter().enumerate().filter_map(|(k, g)| {
-                    g.map(|g| ((k / per_body) as u32, (k % per_body) as u32, g))
-                }),
-            );
+            r.items.clear();
+            if any_regional {
+                for a in (0..bodies.len() as u32).filter(|&a| regional(a)) {
+                    r.items
+                        .extend((0..per_body as u32).map(|p| a * per_body as u32 + p));
+                }
+            }
+            r.detect(|k, scratch, out| {
+                let (a, p) = ((k as usize) / per_body, (k as usize) % per_body);
+                let plane = &planes[p];
+                narrow_phase::body_plane_regions(
+                    posed(a),
+                    plane.point,
+                    plane.normal,
+                    law,
+                    scratch,
+                    out,
+                );
+            });
+            let mut cursor = 0;
+            let mut next = 0;
+            for (k, g) in detected.iter().enumerate() {
+                let (a, p) = ((k / per_body) as u32, (k % per_body) as u32);
+                if r.items.get(next) == Some(&(k as u32)) {
+                    let reach = 0.5 * bodies.equivalent_radius[a as usize];
+                    let previous = self.plane_contacts.of_pair(a, p, &mut cursor);
+                    r.gather(next, a, p, previous, reach);
+                    next += 1;
+                } else if let Some(g) = g {
+                    r.found.push((a, p, 0, *g));
+                }
+            }
         }
-        self.dissipated += self.plane_contacts.update(&self.found);
+        self.dissipated += self.plane_contacts.update_slots(&self.regions.found);
         self.detect_mesh_contacts();
     }
 
@@ -453,6 +523,8 @@ impl World {
                             }
                             return;
                         }
+                        // Not yet supported: scenes refuse non-convex bodies with mesh walls.
+                        Shape::NonConvex(_) => return,
                     };
                     let r = sphere.radius;
                     for (w, wall) in walls.iter().enumerate() {
@@ -672,6 +744,53 @@ impl World {
     /// Number of threads the world's parallel loops use.
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()
+    }
+}
+
+/// Working memory of the contacts of pairs (of bodies, or of a body and a plane) that may touch
+/// in several regions at once: the items to look at, up to [`MAX_REGIONS`] contacts for each,
+/// and the contacts gathered with their slots.
+#[derive(Default)]
+struct RegionBuffers {
+    /// The items (indices of pairs, or body × planes + plane), in increasing order.
+    items: Vec<u32>,
+    /// [`MAX_REGIONS`] slots per item.
+    detected: Vec<Option<Geometry>>,
+    found: Vec<(u32, u32, u16, Geometry)>,
+    slots: Vec<(u16, Geometry)>,
+}
+
+impl RegionBuffers {
+    /// Runs `regions(item, scratch, out)` for every item in parallel, each writing its own slots.
+    fn detect(&mut self, regions: impl Fn(u32, &mut RegionScratch, &mut Vec<Geometry>) + Sync) {
+        self.detected.clear();
+        self.detected.resize(self.items.len() * MAX_REGIONS, None);
+        self.detected
+            .par_chunks_mut(MAX_REGIONS)
+            .zip(self.items.par_iter())
+            .with_min_len(16)
+            .for_each_init(
+                || (RegionScratch::default(), Vec::new()),
+                |(scratch, out), (slots, &item)| {
+                    regions(item, scratch, out);
+                    for (slot, g) in slots.iter_mut().zip(out.iter()) {
+                        *slot = Some(*g);
+                    }
+                },
+            );
+    }
+
+    /// Appends the regions of item number `n` (the pair `a`, `b`) to `found`, each in the slot of
+    /// the matching contact of last step (`previous`, see [`assign_slots`]).
+    fn gather(&mut self, n: usize, a: u32, b: u32, previous: &[Contact], reach: f64) {
+        self.slots.clear();
+        let regions = self.detected[n * MAX_REGIONS..(n + 1) * MAX_REGIONS]
+            .iter()
+            .flatten()
+            .copied();
+        assign_slots(previous, regions, reach, &mut self.slots);
+        self.found
+            .extend(self.slots.iter().map(|&(slot, g)| (a, b, slot, g)));
     }
 }
 

@@ -128,6 +128,9 @@ fn describe(scene: &Path, p: &Prepared) {
         p.duration, p.output_interval
     );
     println!("threads      {}", w.threads());
+    for note in &p.notes {
+        println!("note         {note}");
+    }
 }
 
 fn check(scene: &Path) -> Result<(), String> {

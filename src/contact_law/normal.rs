@@ -110,9 +110,14 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
         stiffness,
         elastic_energy,
         // The pressure's moment, scaled with the force when damping or the no-tension cut-off
-        // change it (the pressure is then taken as scaled uniformly).
+        // change it (the pressure is then taken as scaled uniformly). The vertex law's dashpot
+        // is one, at the contact point: its couple is that of the springs, only ever cut down.
         couple: if elastic > 0.0 {
-            pressure_couple * (total / elastic)
+            let scale = total / elastic;
+            match k.overlap_volume.map(|v| v.law) {
+                Some(PolyhedralLaw::Vertex) => pressure_couple * scale.min(1.0),
+                _ => pressure_couple * scale,
+            }
         } else {
             DVec3::ZERO
         },

@@ -24,6 +24,7 @@
 //!
 //! Deterministic: the answer is the exact classification, whichever direction happens to be used.
 
+use super::bvh::Bvh;
 use super::predicates::{collinear, orient2d_projected, orient3d};
 use crate::math::{Aabb, DVec3};
 
@@ -128,28 +129,74 @@ fn cast(
     vertices: &[DVec3],
     triangles: &[[usize; 3]],
 ) -> Cast {
-    let far = point + length * direction;
-    // Cheap exclusion first: in a frame (u, w) across the line, a triangle whose three vertices
-    // all lie beyond ±margin on one side cannot meet the line. The margin bounds, with a wide
-    // safety factor, every rounding involved: of `far` (the true line's direction differs from
-    // `direction` by a few ulps relative to |point| + length), of u and w, and of the projections.
-    let (u, w) = direction.any_orthonormal_pair();
-    let margin = 1e-12 * (length + point.abs().max_element());
+    let line = Line::new(point, direction, length);
     let (mut forward, mut backward) = (0, 0);
     for &[ia, ib, ic] in triangles {
-        let (a, b, c) = (vertices[ia], vertices[ib], vertices[ic]);
+        match line.meets(vertices[ia], vertices[ib], vertices[ic]) {
+            Meets::Miss => {}
+            Meets::Forward => forward += 1,
+            Meets::Backward => backward += 1,
+            Meets::OnSurface => return Cast::OnSurface,
+            Meets::Degenerate => return Cast::Degenerate,
+        }
+    }
+    Cast::Crossings { forward, backward }
+}
+
+/// The line of one cast: through `point` and `far`, with a frame (u, w) across it for the cheap
+/// exclusion of triangles it misses by far.
+struct Line {
+    point: DVec3,
+    far: DVec3,
+    u: DVec3,
+    w: DVec3,
+    margin: f64,
+}
+
+/// How the line of a cast meets one triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Meets {
+    Miss,
+    /// Through the triangle's interior, on the forward half.
+    Forward,
+    Backward,
+    /// The point itself lies on the triangle.
+    OnSurface,
+    /// Through an edge or vertex of the triangle, or in its plane: this direction cannot decide.
+    Degenerate,
+}
+
+impl Line {
+    fn new(point: DVec3, direction: DVec3, length: f64) -> Self {
+        // Cheap exclusion first: in a frame (u, w) across the line, a triangle whose three
+        // vertices all lie beyond ±margin on one side cannot meet the line. The margin bounds,
+        // with a wide safety factor, every rounding involved: of `far` (the true line's direction
+        // differs from `direction` by a few ulps relative to |point| + length), of u and w, and of
+        // the projections.
+        let (u, w) = direction.any_orthonormal_pair();
+        Self {
+            point,
+            far: point + length * direction,
+            u,
+            w,
+            margin: 1e-12 * (length + point.abs().max_element()),
+        }
+    }
+
+    fn meets(&self, a: DVec3, b: DVec3, c: DVec3) -> Meets {
+        let (point, far, u, w, margin) = (self.point, self.far, self.u, self.w, self.margin);
         let (ra, rb, rc) = (a - point, b - point, c - point);
         let (ua, ub, uc) = (u.dot(ra), u.dot(rb), u.dot(rc));
         if (ua > margin && ub > margin && uc > margin)
             || (ua < -margin && ub < -margin && uc < -margin)
         {
-            continue;
+            return Meets::Miss;
         }
         let (wa, wb, wc) = (w.dot(ra), w.dot(rb), w.dot(rc));
         if (wa > margin && wb > margin && wc > margin)
             || (wa < -margin && wb < -margin && wc < -margin)
         {
-            continue;
+            return Meets::Miss;
         }
         // Exact: the line pierces the triangle's interior when it passes on the same side of all
         // three edges (signs of the volumes (point, far, edge)).
@@ -161,35 +208,90 @@ fn cast(
         let positive = e.iter().filter(|&&x| x > 0.0).count();
         let negative = e.iter().filter(|&&x| x < 0.0).count();
         if positive > 0 && negative > 0 {
-            continue; // misses
+            return Meets::Miss;
         }
         let side_point = orient3d(a, b, c, point);
         if positive == 3 || negative == 3 {
             // One crossing point X, inside the triangle. X = point when the point is in the plane.
             if side_point == 0.0 {
-                return Cast::OnSurface;
+                return Meets::OnSurface;
             }
             // X lies between point and far exactly when they are on opposite sides of the plane.
             // (far is never in the plane: the line meets it only at X, which is in the mesh's
             // bounding box, and far is not.)
             let side_far = orient3d(a, b, c, far);
-            if (side_far > 0.0) != (side_point > 0.0) {
-                forward += 1;
+            return if (side_far > 0.0) != (side_point > 0.0) {
+                Meets::Forward
             } else {
-                backward += 1;
-            }
-            continue;
+                Meets::Backward
+            };
         }
         // The line passes through an edge or a vertex of the triangle, or lies in its plane.
         if collinear(a, b, c) {
-            continue; // zero area: its edges are also edges of its neighbours
+            return Meets::Miss; // zero area: its edges are also edges of its neighbours
         }
         if side_point == 0.0 && in_coplanar_triangle(point, a, b, c) {
-            return Cast::OnSurface;
+            return Meets::OnSurface;
         }
-        return Cast::Degenerate;
+        Meets::Degenerate
     }
-    Cast::Crossings { forward, backward }
+}
+
+/// As [`locate_point`], with the triangles a line may meet found by the mesh's bounding-volume
+/// hierarchy (built over the same `vertices` and `triangles`): the same exact answer, in time
+/// growing with the logarithm of the number of triangles rather than with the number.
+pub fn locate_point_bvh(
+    point: DVec3,
+    vertices: &[DVec3],
+    triangles: &[[usize; 3]],
+    bvh: &Bvh,
+) -> Location {
+    if !(point.x.is_finite() && point.y.is_finite() && point.z.is_finite()) {
+        return Location::Outside;
+    }
+    let bounds = bvh.bounds();
+    if triangles.is_empty() || point.cmplt(bounds.min).any() || point.cmpgt(bounds.max).any() {
+        return Location::Outside;
+    }
+    let length = 2.0 * bounds.extent().length() + f64::MIN_POSITIVE;
+    for direction in (0..MAX_DIRECTIONS).map(quasi_random_direction) {
+        let line = Line::new(point, direction, length);
+        // Boxes are widened by far more than the line test's own margin: no triangle the exact
+        // test could find crossing is ever skipped.
+        let margin = 1e3 * line.margin;
+        let (mut forward, mut backward) = (0usize, 0usize);
+        let mut stop = None;
+        bvh.visit_line(point, direction, margin, |t| {
+            let [a, b, c] = triangles[t as usize].map(|i| vertices[i]);
+            match line.meets(a, b, c) {
+                Meets::Miss => true,
+                Meets::Forward => {
+                    forward += 1;
+                    true
+                }
+                Meets::Backward => {
+                    backward += 1;
+                    true
+                }
+                m => {
+                    stop = Some(m);
+                    false
+                }
+            }
+        });
+        match stop {
+            Some(Meets::OnSurface) => return Location::OnSurface,
+            Some(_) => continue,
+            None => {
+                return match (forward % 2, backward % 2) {
+                    (1, 1) => Location::Inside,
+                    (0, 0) => Location::Outside,
+                    _ => Location::OnSurface,
+                }
+            }
+        }
+    }
+    Location::OnSurface
 }
 
 /// Whether `p`, exactly coplanar with the non-degenerate triangle `a b c`, lies in the closed

@@ -4,9 +4,11 @@
 //! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data;
 //! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
 //! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
-//!   pose, with the body's `id` per face (only when the scene has polyhedra);
+//!   pose (the triangles of a non-convex one), with the body's `id` per face (only when the
+//!   scene has polyhedra);
 //! - `contacts.pvd` → `contacts_NNNNNN.vtp`: the force network, one line per contact with its
-//!   forces (only when asked for);
+//!   forces (only when asked for); a pair touching in several regions has one line per region,
+//!   bent at the region's contact point;
 //! - `energy.csv`: the energy ledger and contact count at each output time, and the packing
 //!   fraction of a region when one is given;
 //! - `wall_forces.csv` (when the scene has walls): for each wall (`wall` id as in `walls.pvd`:
@@ -133,7 +135,11 @@ impl RunOutput {
         )?;
         self.walls.add(world.time, &name, 0)?;
 
-        if world.shapes.iter().any(|s| matches!(s, Shape::Convex(_))) {
+        if world
+            .shapes
+            .iter()
+            .any(|s| matches!(s, Shape::Convex(_) | Shape::NonConvex(_)))
+        {
             let name = format!("polyhedra_{:06}.vtp", self.frame);
             write_polygons(
                 &self.dir.join(&name),
@@ -266,39 +272,55 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
     let b = &world.bodies;
     let mut mesh = PolygonMesh::default();
     for i in 0..b.len() {
-        let Shape::Convex(p) = &world.shapes[b.shape[i] as usize] else {
-            continue;
-        };
         let first = mesh.vertices.len() as u32;
-        mesh.vertices.extend(
-            p.vertices()
-                .iter()
-                .map(|&v| b.position[i] + b.orientation[i] * v),
-        );
-        for face in p.faces() {
-            mesh.polygons
-                .push(face.vertices.iter().map(|&v| first + v as u32).collect());
-            mesh.cell_ids.push(b.id[i] as u32);
+        let place = |v: &DVec3| b.position[i] + b.orientation[i] * *v;
+        match &world.shapes[b.shape[i] as usize] {
+            Shape::Sphere(_) => continue,
+            Shape::Convex(p) => {
+                mesh.vertices.extend(p.vertices().iter().map(place));
+                for face in p.faces() {
+                    mesh.polygons
+                        .push(face.vertices.iter().map(|&v| first + v as u32).collect());
+                    mesh.cell_ids.push(b.id[i] as u32);
+                }
+            }
+            Shape::NonConvex(p) => {
+                mesh.vertices.extend(p.vertices().iter().map(place));
+                for t in p.triangles() {
+                    mesh.polygons
+                        .push(t.iter().map(|&v| first + v as u32).collect());
+                    mesh.cell_ids.push(b.id[i] as u32);
+                }
+            }
         }
     }
     mesh
 }
 
 /// One line per contact: body centre to body centre, or body centre to the contact point on a
-/// wall.
+/// wall. A pair that can touch in several places (a non-convex body) gets one line per contact
+/// region, bent at its contact point: centre, contact point, centre.
 fn force_network(world: &World) -> ForceNetwork {
     let b = &world.bodies;
     let mut network = ForceNetwork::default();
-    let mut line = |from: DVec3, to: DVec3, c: &crate::contact::Contact, wall: u32| {
+    let mut line = |points: &[DVec3], c: &crate::contact::Contact, wall: u32| {
         let first = network.points.len() as u32;
-        network.points.extend([from, to]);
-        network.lines.push(vec![first, first + 1]);
+        network.points.extend_from_slice(points);
+        network
+            .lines
+            .push((first..first + points.len() as u32).collect());
         network.normal_force.push(c.response.normal_force);
         network.force.push(c.response.force);
         network.wall_contact.push(wall);
     };
     for c in &world.contacts.contacts {
-        line(b.position[c.a as usize], b.position[c.b as usize], c, 0);
+        let (i, j) = (c.a as usize, c.b as usize);
+        let regional = |k: usize| world.shapes[b.shape[k] as usize].has_regions();
+        if regional(i) || regional(j) {
+            line(&[b.position[i], c.geometry.point, b.position[j]], c, 0);
+        } else {
+            line(&[b.position[i], b.position[j]], c, 0);
+        }
     }
     for c in world
         .plane_contacts
@@ -306,7 +328,7 @@ fn force_network(world: &World) -> ForceNetwork {
         .iter()
         .chain(&world.mesh_contacts.contacts)
     {
-        line(b.position[c.a as usize], c.geometry.point, c, 1);
+        line(&[b.position[c.a as usize], c.geometry.point], c, 1);
     }
     network
 }

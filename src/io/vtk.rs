@@ -143,7 +143,8 @@ pub fn write_polygons(
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ForceNetwork {
     pub points: Vec<DVec3>,
-    /// Two indices into `points` per line.
+    /// Indices into `points` per line: two (centre to centre, or to a wall's contact point), or
+    /// three for one region of a pair that touches in several (centre, contact point, centre).
     pub lines: Vec<Vec<u32>>,
     /// Per line: normal force magnitude [N] (cell data `normal_force`).
     pub normal_force: Vec<f64>,

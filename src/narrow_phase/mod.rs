@@ -8,6 +8,7 @@ mod convex_mesh;
 mod convex_plane;
 mod convex_sphere;
 mod dispatch;
+pub mod nonconvex;
 pub mod separation;
 mod sphere_mesh;
 mod sphere_plane;
@@ -19,7 +20,10 @@ pub use convex_convex::{convex_convex, VolumeContact};
 pub use convex_mesh::{convex_mesh, convex_mesh_contacts, ConvexMeshScratch};
 pub use convex_plane::convex_plane;
 pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
-pub use dispatch::{body_body, body_plane, effective_radius, Posed};
+pub use dispatch::{
+    body_body, body_body_regions, body_plane, body_plane_regions, effective_radius, Posed,
+};
+pub use nonconvex::{RegionScratch, MAX_REGIONS};
 pub use sphere_mesh::{
     closest_point_on_triangle, is_behind_mesh, sphere_mesh, sphere_mesh_contacts, MeshContact,
     MeshScratch, TriangleRegion,

@@ -268,7 +268,12 @@ fn segment_distance_squared(c: DVec3, p: DVec3, q: DVec3) -> f64 {
 
 /// The closest points of the lines through [a0, a1] and [b0, b1] when they lie strictly inside
 /// both segments; `None` for (nearly) parallel segments or closest points outside.
-fn interior_closest_points(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3) -> Option<(DVec3, DVec3)> {
+pub(crate) fn interior_closest_points(
+    a0: DVec3,
+    a1: DVec3,
+    b0: DVec3,
+    b1: DVec3,
+) -> Option<(DVec3, DVec3)> {
     let (u, v, w) = (a1 - a0, b1 - b0, a0 - b0);
     let (uu, uv, vv, uw, vw) = (u.dot(u), u.dot(v), v.dot(v), u.dot(w), v.dot(w));
     let det = uu * vv - uv * uv;

@@ -74,16 +74,84 @@ pub enum ShapeSpec {
         #[serde(default)]
         seed: u64,
     },
-    /// A convex particle read from a mesh file (`.stl`, ASCII or binary, or `.obj`), relative to
-    /// the scene file's folder; coordinates multiplied by `scale` (file units → metres). A
-    /// non-convex mesh is refused unless `convex_hull = true`, which uses its convex hull.
+    /// A particle read from a mesh file (`.stl`, ASCII or binary, or `.obj`), relative to the
+    /// scene file's folder; coordinates multiplied by `scale` (file units → metres). Convex by
+    /// default: a non-convex mesh is refused unless `convex_hull = true` (its convex hull) or
+    /// `nonconvex = true` (the mesh itself, a non-convex particle).
     Mesh {
         file: String,
         #[serde(default = "unit_scale")]
         scale: f64,
         #[serde(default)]
         convex_hull: bool,
+        /// Use the mesh as it is, convex or not.
+        #[serde(default)]
+        nonconvex: bool,
+        /// Turn the triangles consistently outward instead of refusing a mesh whose orientation
+        /// is inconsistent or inward (non-convex meshes).
+        #[serde(default)]
+        reorient: bool,
+        /// The body as a union of convex parts, each the hull of its points (in the file's
+        /// units, like the mesh): contacts then use the polyhedral law part by part.
+        parts: Option<Vec<Vec<Vec3>>>,
     },
+    /// A 3-D cross ("jack"): three square bars `width` thick and `length` long along x, y and z,
+    /// crossing at their middles. Non-convex.
+    Jack {
+        length: f64,
+        width: f64,
+        /// Contacts by the convex parts (five bars) under the polyhedral law, instead of the
+        /// vertex law on the mesh.
+        #[serde(default)]
+        parts: bool,
+    },
+    /// A flat cross (a plus sign) in the xy plane: two bars `length` × `width`, `thickness`
+    /// along z.
+    Cross {
+        length: f64,
+        width: f64,
+        thickness: f64,
+        #[serde(default)]
+        parts: bool,
+    },
+    /// An L-shaped prism: arms `length_x` along x and `length_y` along y, `width` wide, meeting
+    /// at a square corner; `height` along z.
+    LShape {
+        length_x: f64,
+        length_y: f64,
+        width: f64,
+        height: f64,
+        #[serde(default)]
+        parts: bool,
+    },
+    /// A ring (hollow cylinder) along z with `segments` flat facets around.
+    Ring {
+        outer_radius: f64,
+        inner_radius: f64,
+        height: f64,
+        #[serde(default = "ring_segments")]
+        segments: usize,
+        #[serde(default)]
+        parts: bool,
+    },
+    /// A star: an octahedron (`spikes = 8`) or icosahedron (20) of circumradius `radius` with a
+    /// pyramid of height `spike_length` on every face.
+    Star {
+        #[serde(default = "eight")]
+        spikes: usize,
+        radius: f64,
+        spike_length: f64,
+        #[serde(default)]
+        parts: bool,
+    },
+}
+
+fn ring_segments() -> usize {
+    24
+}
+
+fn eight() -> usize {
+    8
 }
 
 fn unit_scale() -> f64 {

@@ -49,6 +49,9 @@ pub struct Prepared {
     pub schedule: Vec<ScheduledInsertion>,
     /// What the run writes beyond the defaults.
     pub output: crate::io::output::OutputOptions,
+    /// What building the scene repaired or decided that the user should know (welded mesh
+    /// vertices, turned triangles).
+    pub notes: Vec<String>,
 }
 
 /// An `[[insert]]` that happens during the run, once or repeatedly.
@@ -301,6 +304,9 @@ impl Scene {
 
         let mesh_walls = walls::build(self)?;
         let shapes = shapes::build(self)?;
+        if !mesh_walls.is_empty() {
+            self.refuse_non_convex_with_mesh_walls(&shapes)?;
+        }
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
@@ -361,6 +367,7 @@ impl Scene {
             polyhedron: shape
                 .largest_face_area()
                 .map(|area| (shape.equivalent_radius(), area)),
+            vertex_springs: shape.largest_face_corners(),
         };
         let present = (0..b.len())
             .map(|i| candidate(&world.shapes[b.shape[i] as usize], b.mass[i], b.material[i]));
@@ -426,6 +433,10 @@ impl Scene {
                     .as_ref()
                     .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
             },
+            notes: shapes
+                .iter()
+                .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
+                .collect(),
         })
     }
 
@@ -631,6 +642,41 @@ impl Scene {
         .transpose()
     }
 
+    /// Mesh walls collide with spheres and convex polyhedra, not yet with non-convex bodies: a
+    /// scene that would put one next to a mesh wall is refused rather than letting it pass
+    /// through.
+    fn refuse_non_convex_with_mesh_walls(
+        &self,
+        shapes: &BTreeMap<String, shapes::BuiltShape>,
+    ) -> Result<(), SceneError> {
+        let non_convex = |name: &Option<String>| {
+            name.as_ref()
+                .and_then(|n| shapes.get(n))
+                .is_some_and(|b| matches!(b.shape, Shape::NonConvex(_)))
+        };
+        let offender = self
+            .spec
+            .particles
+            .iter()
+            .position(|p| non_convex(&p.shape))
+            .map(|n| KeyPath::entry("particle", n).key("shape"))
+            .or_else(|| {
+                self.spec
+                    .insertions
+                    .iter()
+                    .position(|i| non_convex(&i.shape))
+                    .map(|n| KeyPath::entry("insert", n).key("shape"))
+            });
+        match offender {
+            Some(key) => Err(self.error(
+                key,
+                "non-convex particles cannot meet [[mesh_wall]]s yet (spheres and convex \
+                 polyhedra can); use [[plane]] walls with non-convex shapes for now",
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Refuses bodies that start overlapping a mesh wall by more than the tolerance (times the
     /// sphere's radius, or the polyhedron's volume-equivalent radius; for a polyhedron the
     /// overlap is the mean depth of the run's volume-law contact, as between bodies).
@@ -653,6 +699,8 @@ impl Scene {
                         wall,
                         crate::contact_law::PolyhedralLaw::Volume,
                     ),
+                    // Refused with mesh walls before this check.
+                    Shape::NonConvex(_) => Vec::new(),
                 };
                 let deepest = contacts.iter().map(|g| g.overlap).fold(0.0, f64::max);
                 if deepest > tolerance * b.shape.equivalent_radius() {
@@ -747,6 +795,11 @@ fn depth_behind_plane(b: &BodyInit, plane: &Plane) -> f64 {
     match &b.shape {
         Shape::Sphere(s) => s.radius - height(b.position),
         Shape::Convex(p) => -p
+            .vertices()
+            .iter()
+            .map(|&v| height(b.position + b.orientation * v))
+            .fold(f64::INFINITY, f64::min),
+        Shape::NonConvex(p) => -p
             .vertices()
             .iter()
             .map(|&v| height(b.position + b.orientation * v))

@@ -5,7 +5,12 @@ use super::{KeyPath, Scene, SceneError};
 use crate::io::mesh::read_mesh;
 use crate::math::{DQuat, DVec3};
 use crate::shape::import::{convex_from_mesh, percent, MeshShapeError};
-use crate::shape::{generators, ConvexPolyhedron, MassProperties, Shape, ShapeError, Sphere};
+use crate::shape::mesh_check::CheckOptions;
+use crate::shape::nonconvex::NonConvexError;
+use crate::shape::nonconvex_generators::{self, NonConvexMesh};
+use crate::shape::{
+    generators, ConvexPolyhedron, MassProperties, NonConvexPolyhedron, Shape, ShapeError, Sphere,
+};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
@@ -22,6 +27,8 @@ pub struct BuiltShape {
     pub principal: DQuat,
     /// Centre of mass in the user frame.
     pub centre: DVec3,
+    /// What building it repaired or decided, for the user (welded vertices of a mesh, ...).
+    pub note: Option<String>,
 }
 
 impl BuiltShape {
@@ -95,6 +102,7 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
                 shape: Shape::Sphere(Sphere::new(positive("radius", *radius)?)),
                 principal: DQuat::IDENTITY,
                 centre: DVec3::ZERO,
+                note: None,
             })
         }
         ShapeSpec::Box { edges } => generators::cuboid(
@@ -158,8 +166,107 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
         ShapeSpec::Mesh {
             file,
             scale,
+            convex_hull: _,
+            nonconvex: true,
+            reorient,
+            parts,
+        } => return nonconvex_mesh_shape(folder, file, *scale, *reorient, parts.as_deref()),
+        ShapeSpec::Mesh {
+            file,
+            scale,
             convex_hull,
-        } => Ok(mesh_shape(folder, file, *scale, *convex_hull)?),
+            nonconvex: false,
+            reorient,
+            parts,
+        } => {
+            if *reorient || parts.is_some() {
+                let key = if *reorient { "reorient" } else { "parts" };
+                return Err(ShapeBuildError::new(
+                    key,
+                    format!("`{key}` applies to non-convex meshes only: set nonconvex = true"),
+                ));
+            }
+            Ok(mesh_shape(folder, file, *scale, *convex_hull)?)
+        }
+        ShapeSpec::Jack {
+            length,
+            width,
+            parts,
+        } => {
+            let m = nonconvex_generators::jack(
+                positive("length", *length)?,
+                positive("width", *width)?,
+            );
+            return generated(m, *parts);
+        }
+        ShapeSpec::Cross {
+            length,
+            width,
+            thickness,
+            parts,
+        } => {
+            let m = nonconvex_generators::cross(
+                positive("length", *length)?,
+                positive("width", *width)?,
+                positive("thickness", *thickness)?,
+            );
+            return generated(m, *parts);
+        }
+        ShapeSpec::LShape {
+            length_x,
+            length_y,
+            width,
+            height,
+            parts,
+        } => {
+            let m = nonconvex_generators::l_shape(
+                positive("length_x", *length_x)?,
+                positive("length_y", *length_y)?,
+                positive("width", *width)?,
+                positive("height", *height)?,
+            );
+            return generated(m, *parts);
+        }
+        ShapeSpec::Ring {
+            outer_radius,
+            inner_radius,
+            height,
+            segments,
+            parts,
+        } => {
+            if *segments < 3 {
+                return Err(ShapeBuildError::new(
+                    "segments",
+                    format!("segments = {segments}: a ring needs at least 3"),
+                ));
+            }
+            let m = nonconvex_generators::ring(
+                positive("outer_radius", *outer_radius)?,
+                positive("inner_radius", *inner_radius)?,
+                positive("height", *height)?,
+                *segments,
+            );
+            return generated(m, *parts);
+        }
+        ShapeSpec::Star {
+            spikes,
+            radius,
+            spike_length,
+            parts,
+        } => {
+            if *spikes != 8 && *spikes != 20 {
+                return Err(ShapeBuildError::new(
+                    "spikes",
+                    format!("spikes = {spikes}: a star has 8 (on an octahedron) or 20 (on an icosahedron)"),
+                ));
+            }
+            let m = nonconvex_generators::star(
+                *spikes,
+                positive("radius", *radius)?,
+                positive("spike_length", *spike_length)?,
+            );
+            return generated(m, *parts);
+        }
     };
     let (polyhedron, mass): (ConvexPolyhedron, MassProperties) = polyhedron.map_err(|e| {
         // A `hull` is blamed on its points; a mesh has said which key already.
@@ -173,7 +280,89 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
         principal: mass.principal_rotation(),
         centre: mass.center_of_mass,
         shape: Shape::Convex(Arc::new(polyhedron)),
+        note: None,
     })
+}
+
+fn nonconvex_shape(
+    polyhedron: NonConvexPolyhedron,
+    mass: MassProperties,
+    note: Option<String>,
+) -> BuiltShape {
+    BuiltShape {
+        principal: mass.principal_rotation(),
+        centre: mass.center_of_mass,
+        shape: Shape::NonConvex(Arc::new(polyhedron)),
+        note,
+    }
+}
+
+/// A built-in non-convex shape, with its convex parts when `parts`.
+fn generated(
+    mesh: Result<NonConvexMesh, ShapeError>,
+    parts: bool,
+) -> Result<BuiltShape, ShapeBuildError> {
+    let mesh = mesh.map_err(|e| ShapeBuildError::new("type", e.to_string()))?;
+    let (polyhedron, mass) = mesh
+        .build(parts)
+        .map_err(|e| ShapeBuildError::new("type", e.to_string()))?;
+    Ok(nonconvex_shape(polyhedron, mass, None))
+}
+
+/// Reads a mesh file as a non-convex particle (with its convex parts, if given); every message
+/// names the file.
+fn nonconvex_mesh_shape(
+    folder: &Path,
+    file: &str,
+    scale: f64,
+    reorient: bool,
+    parts: Option<&[Vec<crate::scene::format::Vec3>]>,
+) -> Result<BuiltShape, ShapeBuildError> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(ShapeBuildError::new(
+            "scale",
+            format!("scale = {scale} is not allowed: must be > 0 (metres per unit of the file)"),
+        ));
+    }
+    let path = folder.join(file);
+    let mesh = read_mesh(&path, scale).map_err(|e| ShapeBuildError::new("file", e.to_string()))?;
+    let name = path.display();
+    let (polyhedron, mass, report) =
+        NonConvexPolyhedron::from_mesh(&mesh.vertices, &mesh.triangles, CheckOptions { reorient })
+            .map_err(|e| ShapeBuildError::new("file", format!("{name}: {e}")))?;
+    let polyhedron = match parts {
+        Some(parts) => {
+            let points: Vec<Vec<DVec3>> = parts
+                .iter()
+                .map(|p| p.iter().map(|&x| DVec3::from(x) * scale).collect())
+                .collect();
+            polyhedron.with_parts(&mass, &points).map_err(|e| {
+                let hint = match e {
+                    NonConvexError::Part { .. } => "",
+                    _ => " (part corners are in the file's units, like the mesh)",
+                };
+                ShapeBuildError::new("parts", format!("{e}{hint}"))
+            })?
+        }
+        None => polyhedron,
+    };
+    let welded = mesh.info.welded;
+    let mut repaired: Vec<String> = Vec::new();
+    if welded > 0 {
+        repaired.push(format!(
+            "welded {welded} duplicate vertex records ({} not bit-identical)",
+            mesh.info.near_duplicates
+        ));
+    }
+    if mesh.info.degenerate_triangles > 0 {
+        repaired.push(format!(
+            "dropped {} triangles collapsed by welding",
+            mesh.info.degenerate_triangles
+        ));
+    }
+    repaired.extend(report.describe());
+    let note = (!repaired.is_empty()).then(|| format!("{name}: {}", repaired.join("; ")));
+    Ok(nonconvex_shape(polyhedron, mass, note))
 }
 
 /// Reads a mesh file and makes it a convex polyhedron; every message names the file.
@@ -211,7 +400,8 @@ fn mesh_shape(
                         .unwrap_or_default();
                     format!(
                         "{name} is not convex (its convex hull is {} % larger{vertex}): set \
-                         convex_hull = true to use the hull, or wait for non-convex particles",
+                         nonconvex = true to use it as a non-convex particle, or convex_hull = \
+                         true to use its hull",
                         percent(hull_excess)
                     )
                 }
