@@ -181,8 +181,8 @@ fn a_scene_reports_mesh_errors_with_scene_line_key_and_mesh_file() {
     assert_eq!(
         e,
         "tests/data/scene.toml:15: [shape.grain] file: tests/data/l_shape.stl is not convex (its \
-         convex hull is 16.7 % larger): set convex_hull = true to use the hull, or wait for \
-         non-convex particles"
+         convex hull is 16.7 % larger): set nonconvex = true to use it as a non-convex particle, \
+         or convex_hull = true to use its hull"
     );
     let hull =
         scene("type = \"mesh\"\nfile = \"l_shape.stl\"\nconvex_hull = true\nscale = 0.01").unwrap();

@@ -193,11 +193,9 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
             width,
             parts,
         } => {
-            let m = nonconvex_generators::jack(
-                positive("length", *length)?,
-                positive("width", *width)?,
-            );
-            return generated(m, *parts);
+            let (l, w) = (positive("length", *length)?, positive("width", *width)?);
+            narrower("width", w, "length", l)?;
+            return generated(nonconvex_generators::jack(l, w), *parts);
         }
         ShapeSpec::Cross {
             length,
@@ -205,11 +203,9 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
             thickness,
             parts,
         } => {
-            let m = nonconvex_generators::cross(
-                positive("length", *length)?,
-                positive("width", *width)?,
-                positive("thickness", *thickness)?,
-            );
+            let (l, w) = (positive("length", *length)?, positive("width", *width)?);
+            narrower("width", w, "length", l)?;
+            let m = nonconvex_generators::cross(l, w, positive("thickness", *thickness)?);
             return generated(m, *parts);
         }
         ShapeSpec::LShape {
@@ -219,12 +215,14 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
             height,
             parts,
         } => {
-            let m = nonconvex_generators::l_shape(
+            let (a, b) = (
                 positive("length_x", *length_x)?,
                 positive("length_y", *length_y)?,
-                positive("width", *width)?,
-                positive("height", *height)?,
             );
+            let w = positive("width", *width)?;
+            narrower("width", w, "length_x", a)?;
+            narrower("width", w, "length_y", b)?;
+            let m = nonconvex_generators::l_shape(a, b, w, positive("height", *height)?);
             return generated(m, *parts);
         }
         ShapeSpec::Ring {
@@ -240,12 +238,11 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
                     format!("segments = {segments}: a ring needs at least 3"),
                 ));
             }
-            let m = nonconvex_generators::ring(
-                positive("outer_radius", *outer_radius)?,
-                positive("inner_radius", *inner_radius)?,
-                positive("height", *height)?,
-                *segments,
-            );
+            let outer = positive("outer_radius", *outer_radius)?;
+            let inner = positive("inner_radius", *inner_radius)?;
+            narrower("inner_radius", inner, "outer_radius", outer)?;
+            let m =
+                nonconvex_generators::ring(outer, inner, positive("height", *height)?, *segments);
             return generated(m, *parts);
         }
         ShapeSpec::Star {
@@ -294,6 +291,25 @@ fn nonconvex_shape(
         centre: mass.center_of_mass,
         shape: Shape::NonConvex(Arc::new(polyhedron)),
         note,
+    }
+}
+
+/// Refuses `small` ≥ `large`, blaming the key of `small`.
+fn narrower(
+    small_key: &str,
+    small: f64,
+    large_key: &str,
+    large: f64,
+) -> Result<(), ShapeBuildError> {
+    if small < large {
+        Ok(())
+    } else {
+        Err(ShapeBuildError::new(
+            small_key,
+            format!(
+                "{small_key} = {small} is not allowed: must be smaller than {large_key} = {large}"
+            ),
+        ))
     }
 }
 

@@ -32,6 +32,10 @@ pub const SHARP_EDGE_ANGLE: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// The convex parts must add up to the mesh's volume to this relative tolerance.
 pub const PARTS_VOLUME_TOLERANCE: f64 = 1e-6;
 
+/// No corner of a convex part may lie farther outside the mesh than this, relative to the
+/// diagonal of the mesh's box: far above the rounding of single-precision (STL) coordinates.
+pub const PARTS_DISTANCE_TOLERANCE: f64 = 1e-6;
+
 /// A convex part of a body, placed in the body's frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConvexPart {
@@ -192,7 +196,7 @@ impl NonConvexPolyhedron {
                 let local = to_body(axes, mass.center_of_mass, p);
                 if self.locate(local) == Location::Outside {
                     let distance = self.distance_to_surface(local);
-                    if distance > 1e-9 * size {
+                    if distance > PARTS_DISTANCE_TOLERANCE * size {
                         return Err(NonConvexError::PartOutside {
                             index,
                             point: p,
