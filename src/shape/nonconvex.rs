@@ -447,7 +447,10 @@ mod tests {
                 );
             }
         }
-        let e = p.clone().with_parts(&mass, std::slice::from_ref(&a)).unwrap_err();
+        let e = p
+            .clone()
+            .with_parts(&mass, std::slice::from_ref(&a))
+            .unwrap_err();
         assert!(matches!(e, NonConvexError::PartsVolume { .. }), "{e}");
         let big = corners(DVec3::ZERO, DVec3::new(2.0, 2.0, 1.0));
         let e = p.clone().with_parts(&mass, &[big]).unwrap_err();
