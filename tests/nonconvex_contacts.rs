@@ -112,6 +112,38 @@ rotation = [{rx}, {ry}, {rz}]
     }
     let (f0, f1) = (pair[0].response.normal_force, pair[1].response.normal_force);
     assert!((f0 / f1 - 1.0).abs() < 0.01, "{f0} vs {f1}");
+    // Each region keeps its slot, and with it its friction spring (part of the weight hangs on
+    // friction), step after step.
+    let sides: Vec<(u16, f64, DVec3)> = pair
+        .iter()
+        .map(|c| {
+            (
+                c.slot,
+                c.geometry.point.y.signum(),
+                c.history.tangential_spring,
+            )
+        })
+        .collect();
+    assert!(sides.iter().all(|s| s.2.length() > 0.0), "{sides:?}");
+    let mut later = build(&text);
+    later
+        .world
+        .run_steps(((0.6 + 0.05) / later.world.time_step) as u64);
+    for c in later
+        .world
+        .contacts
+        .contacts
+        .iter()
+        .filter(|c| (c.a, c.b) == (0, 1))
+    {
+        let (_, side, spring) = sides
+            .iter()
+            .copied()
+            .find(|s| s.0 == c.slot)
+            .expect("the same slots");
+        assert_eq!(side, c.geometry.point.y.signum());
+        assert!((c.history.tangential_spring - spring).length() < 1e-3 * spring.length());
+    }
     // At rest: the two regions carry the weight (the force on the upper cross, body 1).
     let on_upper: DVec3 = pair.iter().map(|c| -c.response.force).sum();
     assert!(
