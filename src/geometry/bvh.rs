@@ -514,7 +514,10 @@ mod tests {
             });
         }
         let mean = visited as f64 / lines as f64;
-        println!("{mean:.1} of {} triangles visited per line", triangles.len());
+        println!(
+            "{mean:.1} of {} triangles visited per line",
+            triangles.len()
+        );
         assert!(mean < 100.0, "{mean}");
     }
 
