@@ -253,6 +253,7 @@ fn built_in_shapes_refuse_bad_parameters_by_key() {
         ("type = \"ring\"\nouter_radius = 0.01\ninner_radius = 0.02\nheight = 0.01", "inner_radius"),
         ("type = \"ring\"\nouter_radius = 0.02\ninner_radius = 0.01\nheight = 0.01\nsegments = 2", "segments = 2"),
         ("type = \"star\"\nspikes = 12\nradius = 0.01\nspike_length = 0.01", "spikes = 12"),
+        ("type = \"screw\"\nradius = 0.005\ncore_radius = 0.006\nblade_width = 0.001\nlength = 0.02\nturns = 1.0", "core_radius = 0.006 is not allowed: must be smaller than radius"),
         ("type = \"jack\"\nlength = 0.02\nwidth = 0.004\ncolour = 3", "colour"),
     ];
     for (keys, expected) in cases {
@@ -265,6 +266,7 @@ fn built_in_shapes_refuse_bad_parameters_by_key() {
         "type = \"cross\"\nlength = 0.03\nwidth = 0.006\nthickness = 0.004",
         "type = \"ring\"\nouter_radius = 0.02\ninner_radius = 0.01\nheight = 0.01",
         "type = \"star\"\nspikes = 20\nradius = 0.01\nspike_length = 0.005\nparts = true",
+        "type = \"screw\"\nradius = 0.005\ncore_radius = 0.002\nblade_width = 0.0015\nlength = 0.02\nturns = 1.5",
     ] {
         assert!(scene(dir.path(), keys).is_ok(), "{keys}");
     }

@@ -492,6 +492,35 @@ mod tests {
         }
     }
 
+    /// What the hierarchy is for: on a closed mesh of ~8,000 triangles a ray cast (a line through
+    /// a point inside) visits a few dozen triangles, not all of them.
+    #[test]
+    fn a_line_visits_few_of_many_triangles() {
+        let mut rng = SplitMix64::new(21);
+        let points: Vec<DVec3> = (0..4000)
+            .map(|_| DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize())
+            .collect();
+        let triangles = crate::geometry::convex_hull::convex_hull(&points).unwrap();
+        assert!(triangles.len() > 7900, "{}", triangles.len());
+        let bvh = Bvh::new(&points, &triangles);
+        let mut visited = 0usize;
+        let lines = 200;
+        for _ in 0..lines {
+            let p = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 0.3;
+            let d = DVec3::new(rng.normal(), rng.normal(), rng.normal());
+            bvh.visit_line(p, d, 1e-9, |_| {
+                visited += 1;
+                true
+            });
+        }
+        let mean = visited as f64 / lines as f64;
+        println!(
+            "{mean:.1} of {} triangles visited per line",
+            triangles.len()
+        );
+        assert!(mean < 100.0, "{mean}");
+    }
+
     #[test]
     fn empty_tree_reports_nothing() {
         let bvh = Bvh::new(&[], &[]);

@@ -210,7 +210,6 @@ pub fn body_body_regions(
             merge_part_contacts(&mut found, body_a, body_b, Merge::Sum, out);
         }
         (da, db) => {
-            #[allow(clippy::needless_pass_by_value)]
             fn solid<'s>(d: Description<'s>, body: &Posed<'s>) -> Solid<'s> {
                 match (d, body.shape) {
                     (Description::Mesh(m), _) => Solid::Mesh(m),

@@ -10,12 +10,14 @@
 //!    (`geometry::point_in_polyhedron`, exact, accelerated by the shape's bounding-volume
 //!    hierarchy); depth: the distance to the nearest point of the other's surface, force along
 //!    the direction from the vertex to that point (the face normal when it lies inside a face);
-//! 2. edges: the middle of each part of a sharp edge inside the other body, with its depth and
-//!    direction found alike. This takes the place of the convex case's edge–edge points: it
-//!    covers two ridges crossing, and an edge pressed into a face with both its ends outside
-//!    (crossed beams, ubiquitous between the arms of crosses), which no vertex and no crossing of
-//!    edges sees. Such a part starts and ends on the other body's surface, so its spring appears
-//!    and vanishes at depth zero, and the force stays continuous as edges enter and leave;
+//! 2. edges: each part of a sharp edge inside the other body is a spring at its deepest point,
+//!    less what its deeper end vertex already carries (`edge_spring`: the potential is
+//!    ½ k (D² − d_end²)). This takes the place of the convex case's edge–edge points: it covers
+//!    two ridges crossing, and an edge pressed into a face with both its ends outside (crossed
+//!    beams, ubiquitous between the arms of crosses), which no vertex and no crossing of edges
+//!    sees; and it adds nothing to a face contact, where edges are deepest at their corners. Such
+//!    a part starts and ends on the other body's surface, so its spring appears and vanishes at
+//!    depth zero, and the force stays continuous as edges enter and leave;
 //! 3. crossing points: where an edge of one surface passes through a triangle (face) of the other
 //!    (exact orientation tests); depth zero, they outline the regions and delimit the parts of
 //!    edges inside.
@@ -40,7 +42,7 @@
 //! A connected piece of A ∩ B is bounded by pieces of both surfaces meeting along such curves, so
 //! its points end up in one group; separate pieces share no edge and no face pair, so they stay
 //! apart. Each region with penetrating depth becomes one contact: the springs of the vertex law at
-//! the depth-weighted mean point, their exact moment as a couple (`dispatch::springs`), and as
+//! the depth-weighted mean point, their exact moment as a couple (`aggregate`), and as
 //! "area" the area of the region's points projected on the plane normal to the contact (so that
 //! twisting friction and rocking damping act as for an area contact). At most [`MAX_REGIONS`]
 //! regions are kept; beyond that the one with the least depth is merged into the nearest (the

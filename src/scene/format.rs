@@ -144,6 +144,22 @@ pub enum ShapeSpec {
         #[serde(default)]
         parts: bool,
     },
+    /// A screw-shaped grain along z: a core with helical blades.
+    Screw {
+        radius: f64,
+        core_radius: f64,
+        blade_width: f64,
+        length: f64,
+        turns: f64,
+        #[serde(default = "two")]
+        blades: usize,
+        #[serde(default = "ring_segments")]
+        segments: usize,
+    },
+}
+
+fn two() -> usize {
+    2
 }
 
 fn ring_segments() -> usize {

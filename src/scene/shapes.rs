@@ -245,6 +245,47 @@ pub(super) fn build_one(spec: &ShapeSpec, folder: &Path) -> Result<BuiltShape, S
                 nonconvex_generators::ring(outer, inner, positive("height", *height)?, *segments);
             return generated(m, *parts);
         }
+        ShapeSpec::Screw {
+            radius,
+            core_radius,
+            blade_width,
+            length,
+            turns,
+            blades,
+            segments,
+        } => {
+            let r = positive("radius", *radius)?;
+            let c = positive("core_radius", *core_radius)?;
+            narrower("core_radius", c, "radius", r)?;
+            if !(2..=12).contains(blades) {
+                return Err(ShapeBuildError::new(
+                    "blades",
+                    format!("blades = {blades}: a screw has 2 to 12 blades"),
+                ));
+            }
+            if *segments < 4 {
+                return Err(ShapeBuildError::new(
+                    "segments",
+                    format!("segments = {segments}: at least 4 per turn"),
+                ));
+            }
+            if !(turns.is_finite() && *turns >= 0.0) {
+                return Err(ShapeBuildError::new(
+                    "turns",
+                    format!("turns = {turns} is not allowed: must be ≥ 0"),
+                ));
+            }
+            let m = nonconvex_generators::screw(
+                r,
+                c,
+                positive("blade_width", *blade_width)?,
+                positive("length", *length)?,
+                *turns,
+                *blades,
+                *segments,
+            );
+            return generated(m, false);
+        }
         ShapeSpec::Star {
             spikes,
             radius,

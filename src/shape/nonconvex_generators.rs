@@ -1,7 +1,7 @@
 //! Built-in non-convex shapes: a 3-D cross ("jack"), a flat cross, an L-shape, a ring (hollow
-//! cylinder) and a star (a polyhedron with a pyramid on every face). Each comes as a closed
-//! outward mesh and as its exact decomposition into disjoint convex parts, centred on the origin
-//! of the frame they are described in (the L-shape on its bounding box).
+//! cylinder), a star (a polyhedron with a pyramid on every face) and a screw. Each comes as a
+//! closed outward mesh and (but the screw) as its exact decomposition into disjoint convex parts,
+//! centred on the origin of the frame they are described in (the L-shape on its bounding box).
 //!
 //! The box-like shapes are unions of cells of a rectilinear grid, and their surface is made of the
 //! grid faces between a filled and an empty cell (two triangles each): such a surface is closed,
@@ -276,6 +276,102 @@ pub fn star(spikes: usize, radius: f64, spike_length: f64) -> Result<NonConvexMe
     })
 }
 
+/// A screw-shaped grain: a core of radius `core_radius` with `blades` helical blades out to
+/// `radius`, `length` long along z, turning `turns` times over its length. Built as a twisted
+/// extrusion of its cross-section (the core with the blades' sections, each blade
+/// `blade_width` wide at the rim) in `segments` layers per turn; the caps are fans from the axis.
+/// Not given as convex parts (its layers are twisted).
+#[allow(clippy::too_many_arguments)]
+pub fn screw(
+    radius: f64,
+    core_radius: f64,
+    blade_width: f64,
+    length: f64,
+    turns: f64,
+    blades: usize,
+    segments: usize,
+) -> Result<NonConvexMesh, ShapeError> {
+    let (r, c, w, l) = (
+        positive("radius", radius)?,
+        positive("core_radius", core_radius)?,
+        positive("blade_width", blade_width)?,
+        positive("length", length)?,
+    );
+    if c >= r {
+        return Err(ShapeError::InvalidParameter(format!(
+            "the core radius ({c}) must be smaller than the radius ({r})"
+        )));
+    }
+    if !(turns.is_finite() && turns >= 0.0) {
+        return Err(ShapeError::InvalidParameter(format!(
+            "turns must be a finite number ≥ 0, got {turns}"
+        )));
+    }
+    if !(2..=12).contains(&blades) || segments < 4 {
+        return Err(ShapeError::InvalidParameter(format!(
+            "a screw needs 2 to 12 blades and at least 4 segments per turn, got {blades} and \
+             {segments}"
+        )));
+    }
+    // Half the angle a blade spans at the rim and at the core (same width at both).
+    let (half_rim, half_core) = ((0.5 * w / r).asin(), (0.5 * w / c).min(1.0).asin());
+    let pitch = TAU / blades as f64;
+    if 2.0 * half_core >= pitch || w >= 2.0 * c {
+        return Err(ShapeError::InvalidParameter(format!(
+            "blades {w} wide do not fit {blades} times around a core of radius {c}"
+        )));
+    }
+    // The cross-section, counter-clockwise: per blade, core → rim → rim → core, then the core
+    // between blades in a few steps.
+    let between = 3;
+    let mut section: Vec<(f64, f64)> = Vec::new();
+    for b in 0..blades {
+        let a = pitch * b as f64;
+        section.extend([
+            (c, a - half_core),
+            (r, a - half_rim),
+            (r, a + half_rim),
+            (c, a + half_core),
+        ]);
+        let (from, to) = (a + half_core, a + pitch - half_core);
+        for k in 1..between {
+            section.push((c, from + (to - from) * k as f64 / between as f64));
+        }
+    }
+    let m = section.len();
+    let layers = ((turns * segments as f64).ceil() as usize).max(1);
+    let mut vertices = Vec::with_capacity((layers + 1) * m + 2);
+    for k in 0..=layers {
+        let t = k as f64 / layers as f64;
+        let (z, twist) = (-0.5 * l + l * t, TAU * turns * t);
+        vertices.extend(section.iter().map(|&(rho, phi)| {
+            let (sin, cos) = (phi + twist).sin_cos();
+            DVec3::new(rho * cos, rho * sin, z)
+        }));
+    }
+    let (bottom, top) = (vertices.len(), vertices.len() + 1);
+    vertices.push(DVec3::new(0.0, 0.0, -0.5 * l));
+    vertices.push(DVec3::new(0.0, 0.0, 0.5 * l));
+    let at = |k: usize, i: usize| k * m + i % m;
+    let mut triangles = Vec::with_capacity(2 * layers * m + 2 * m);
+    for k in 0..layers {
+        for i in 0..m {
+            let (a, b, cc, d) = (at(k, i), at(k, i + 1), at(k + 1, i + 1), at(k + 1, i));
+            triangles.push([a, b, cc]);
+            triangles.push([a, cc, d]);
+        }
+    }
+    for i in 0..m {
+        triangles.push([bottom, at(0, i + 1), at(0, i)]);
+        triangles.push([top, at(layers, i), at(layers, i + 1)]);
+    }
+    Ok(NonConvexMesh {
+        vertices,
+        triangles,
+        parts: Vec::new(),
+    })
+}
+
 /// The eight corners of the box x × y × z.
 fn box_corners(x: [f64; 2], y: [f64; 2], z: [f64; 2]) -> Vec<DVec3> {
     (0..8)
@@ -371,6 +467,12 @@ mod tests {
                 4.0 / 3.0 + 8.0 * (3f64.sqrt() / 2.0) / 3.0
             }),
             ("star20", star(20, 1.0, 0.5).unwrap(), 0.0),
+            ("screw", screw(1.0, 0.4, 0.3, 3.0, 1.5, 2, 24).unwrap(), 0.0),
+            (
+                "screw3",
+                screw(1.0, 0.5, 0.2, 2.0, 0.7, 3, 16).unwrap(),
+                0.0,
+            ),
         ];
         for (name, m, expected) in cases {
             let checked = check_mesh(&m.vertices, &m.triangles, CheckOptions::default())
@@ -383,7 +485,10 @@ mod tests {
                     "{name}: {v} vs {expected}"
                 );
             }
-            let (p, _) = m.build(true).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let with_parts = !m.parts.is_empty();
+            let (p, _) = m
+                .build(with_parts)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(p.parts().len(), m.parts.len());
         }
     }
@@ -397,5 +502,19 @@ mod tests {
         assert!(ring(1.0, 2.0, 1.0, 12).is_err());
         assert!(ring(2.0, 1.0, 1.0, 2).is_err());
         assert!(star(12, 1.0, 1.0).is_err());
+        assert!(screw(1.0, 1.2, 0.2, 1.0, 1.0, 2, 24).is_err());
+        assert!(screw(1.0, 0.3, 0.5, 1.0, 1.0, 6, 24).is_err());
+        assert!(screw(1.0, 0.3, 0.1, 1.0, 1.0, 1, 24).is_err());
+    }
+
+    #[test]
+    fn a_screw_keeps_its_cross_section_area() {
+        // Twisting moves each layer rigidly: the volume is about section area × length (the
+        // side triangles between twisted layers bulge a little).
+        let m = screw(1.0, 0.4, 0.3, 3.0, 1.0, 2, 48).unwrap();
+        let straight = screw(1.0, 0.4, 0.3, 3.0, 0.0, 2, 48).unwrap();
+        let (v, v0) = (volume(&m), volume(&straight));
+        assert!((v / v0 - 1.0).abs() < 0.05, "{v} vs {v0}");
+        assert_eq!(straight.triangles.len(), 2 * 12 + 2 * 12);
     }
 }
