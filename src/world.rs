@@ -14,8 +14,8 @@ use crate::narrow_phase::{
     self, ClipScratch, ConvexMeshScratch, Geometry, MeshScratch, RegionScratch, MAX_REGIONS,
 };
 use crate::shape::Shape;
-use crate::wall::MeshWall;
 use crate::wall::Plane;
+use crate::wall::{MeshWall, WallState};
 use rayon::prelude::*;
 use std::f64::consts::FRAC_1_SQRT_2;
 
@@ -85,6 +85,8 @@ pub struct World {
     wall_time: f64,
     /// Power of the wall forces at the last evaluation (for the trapezoidal work integral).
     wall_power: f64,
+    /// Each mesh wall's motion over the step and at its end; `None` for a fixed wall.
+    wall_states: Vec<Option<[WallState; 2]>>,
     next_id: u64,
     broad_phase_method: broad_phase::Method,
     /// See [`WorldConfig::skin`]; `None` until bodies exist to size it from.
@@ -141,6 +143,7 @@ impl World {
             flow_meters: Vec::new(),
             wall_time: 0.0,
             wall_power: 0.0,
+            wall_states: Vec::new(),
             next_id: 0,
             broad_phase_method: config.broad_phase,
             skin_setting: config.skin,
@@ -660,24 +663,29 @@ impl World {
             .with_min_len(256)
             .for_each(|c| wall_contact(c, planes[c.b as usize].material, [DVec3::ZERO; 3]));
         let (now, end) = (self.wall_time - 0.5 * dt, self.wall_time);
+        self.wall_states.clear();
+        self.wall_states.extend(
+            walls.iter().map(|w| {
+                (!w.motion.is_fixed()).then(|| [w.motion.state(now), w.motion.state(end)])
+            }),
+        );
+        let states = &self.wall_states;
         self.mesh_contacts
             .contacts
             .par_iter_mut()
             .with_min_len(256)
             .for_each(|c| {
-                let wall = &walls[c.b as usize / MESH_REGIONS];
-                let m = &wall.motion;
+                let w = c.b as usize / MESH_REGIONS;
                 let (p, n) = (c.geometry.point, c.geometry.normal);
-                let velocity = if m.is_fixed() {
-                    [DVec3::ZERO; 3]
-                } else {
-                    [
-                        m.surface_velocity_at(now, p, n),
-                        m.surface_velocity_at(end, p, n),
-                        m.angular_velocity(),
-                    ]
+                let velocity = match &states[w] {
+                    None => [DVec3::ZERO; 3],
+                    Some([over_step, at_end]) => [
+                        over_step.surface_velocity(p, n),
+                        at_end.surface_velocity(p, n),
+                        at_end.angular_velocity,
+                    ],
                 };
-                wall_contact(c, wall.material, velocity)
+                wall_contact(c, walls[w].material, velocity)
             });
     }
 
@@ -719,14 +727,15 @@ impl World {
             self.dissipated += c.response.dissipated;
             let centre = match w.checked_sub(self.planes.len()) {
                 None => self.planes[w].point,
-                Some(m) => {
-                    let motion = &self.mesh_walls[m].motion;
-                    if !motion.is_fixed() {
-                        let v = motion.surface_velocity_at(self.wall_time, p, c.geometry.normal);
-                        power += f.dot(v) + c.response.torque.dot(motion.angular_velocity());
+                // Fixed walls report torques about the origin of their reference placement.
+                Some(m) => match &self.wall_states[m] {
+                    None => self.mesh_walls[m].motion.reference_point(self.wall_time),
+                    Some([_, at_end]) => {
+                        let v = at_end.surface_velocity(p, c.geometry.normal);
+                        power += f.dot(v) + c.response.torque.dot(at_end.angular_velocity);
+                        at_end.centre
                     }
-                    motion.reference_point(self.wall_time)
-                }
+                },
             };
             self.wall_impulse[w] -= f * dt;
             self.wall_angular_impulse[w] -= ((p - centre).cross(f) + c.response.torque) * dt;

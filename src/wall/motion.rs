@@ -236,11 +236,40 @@ impl WallMotion {
         translation + w * reach + self.surface_velocity.length()
     }
 
+    /// The wall's motion at time `t`, worked out once for all its contacts.
+    pub fn state(&self, t: f64) -> WallState {
+        WallState {
+            velocity: self.velocity(t),
+            angular_velocity: self.angular_velocity,
+            centre: self.reference_point(t),
+            belt: self.surface_velocity,
+        }
+    }
+
     /// Velocity at time `t` of the wall's surface at world point `x` where the surface normal is
-    /// `normal`: rigid motion plus the tangential part of the belt velocity.
+    /// `normal` (see [`WallState::surface_velocity`]).
     pub fn surface_velocity_at(&self, t: f64, x: DVec3, normal: DVec3) -> DVec3 {
-        let belt = self.surface_velocity - normal * normal.dot(self.surface_velocity);
-        self.velocity(t) + self.angular_velocity.cross(x - self.reference_point(t)) + belt
+        self.state(t).surface_velocity(x, normal)
+    }
+}
+
+/// A moving wall at one moment: translation velocity, angular velocity about `centre` (the
+/// reference point, see [`WallMotion::reference_point`]) and belt velocity.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallState {
+    pub velocity: DVec3,
+    pub angular_velocity: DVec3,
+    pub centre: DVec3,
+    belt: DVec3,
+}
+
+impl WallState {
+    /// Velocity of the wall's surface at world point `x` where the surface normal is `normal`:
+    /// rigid motion plus the tangential part of the belt velocity.
+    #[inline]
+    pub fn surface_velocity(&self, x: DVec3, normal: DVec3) -> DVec3 {
+        let belt = self.belt - normal * normal.dot(self.belt);
+        self.velocity + self.angular_velocity.cross(x - self.centre) + belt
     }
 }
 
