@@ -142,3 +142,48 @@ fn bad_motions_and_meters_name_their_key() {
         assert!(error.contains("belt.toml"), "{error}");
     }
 }
+
+#[test]
+fn a_turning_screw_keeps_its_casing_fixed_or_is_refused() {
+    let screw = |casing: &str, part: &str| {
+        format!(
+            "generator = {{ type = \"screw\", shaft_radius = 0.01, flight_radius = 0.04, \
+             pitch = 0.05, turns = 2, thickness = 0.004, {casing}part = \"{part}\" }}\n\
+             motion = {{ rpm = 60.0, axis = [0.0, 0.0, 1.0] }}"
+        )
+    };
+    let belt = BELT
+        .lines()
+        .filter(|l| !l.starts_with("generator =") && !l.starts_with("motion ="))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let with = |wall: &str| {
+        belt.replacen(
+            "[[mesh_wall]]\nmaterial = \"beads\"",
+            &format!("[[mesh_wall]]\nmaterial = \"beads\"\n{wall}"),
+            1,
+        )
+    };
+    let build = |wall: &str| {
+        Scene::parse(Path::new("screw.toml"), with(wall))
+            .unwrap()
+            .build()
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    // A screw alone may turn, and so may its flight apart from its casing.
+    assert!(build(&screw("", "all")).is_ok());
+    assert!(build(&screw("trough_clearance = 0.002, ", "screw")).is_ok());
+    // Flight and trough in one turning wall: refused, saying how to split them.
+    let error = build(&screw("trough_clearance = 0.002, ", "all")).expect_err("refused");
+    assert!(error.contains("screw.toml"), "{error}");
+    assert!(error.contains("[[mesh_wall]] #1 generator.part"), "{error}");
+    assert!(error.contains("part = \"casing\""), "{error}");
+    let error = build(&screw(
+        "tube_clearance = 0.002, trough_clearance = 0.002, ",
+        "screw",
+    ))
+    .expect_err("refused");
+    assert!(error.contains("[[mesh_wall]] #1 generator"), "{error}");
+    assert!(error.contains("not both"), "{error}");
+}

@@ -644,7 +644,7 @@ mod tests {
 
     #[test]
     fn sphere_on_a_screw_flight() {
-        use crate::wall::generators::{screw, Hand, Screw};
+        use crate::wall::generators::{screw, Casing, Hand, Screw, ScrewPart};
         let s = Screw {
             shaft_radius: 0.02,
             flight_radius: 0.06,
@@ -655,7 +655,8 @@ mod tests {
             segments_per_turn: 90,
             radial_segments: 4,
             shaft: true,
-            tube_clearance: Some(0.005),
+            casing: Casing::Tube { clearance: 0.005 },
+            part: ScrewPart::All,
         };
         let w = screw(&s).unwrap().into_wall(0).unwrap();
         let lead = s.pitch / std::f64::consts::TAU;

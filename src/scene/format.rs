@@ -392,6 +392,16 @@ pub enum FacingSpec {
     Outward,
 }
 
+/// Which parts of a generated screw make the wall.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ScrewPartSpec {
+    #[default]
+    All,
+    Screw,
+    Casing,
+}
+
 /// Built-in wall meshes (sizes in metres, before `scale`).
 #[derive(Debug, Deserialize, Clone, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -441,7 +451,7 @@ pub enum WallGenerator {
         #[serde(default)]
         facing: FacingSpec,
     },
-    /// A helical screw flight along z with an optional shaft and tube.
+    /// A helical screw flight along z with an optional shaft and a tube or trough around it.
     Screw {
         shaft_radius: f64,
         flight_radius: f64,
@@ -457,6 +467,11 @@ pub enum WallGenerator {
         #[serde(default = "yes")]
         shaft: bool,
         tube_clearance: Option<f64>,
+        trough_clearance: Option<f64>,
+        /// Height of the trough's sides above the axis (default: its radius).
+        trough_height: Option<f64>,
+        #[serde(default)]
+        part: ScrewPartSpec,
     },
 }
 

@@ -1,10 +1,11 @@
 //! Building the triangle-mesh walls of a scene (`[[mesh_wall]]`).
 
-use super::format::{FacingSpec, MotionSpec, WallGenerator};
+use super::format::{FacingSpec, MotionSpec, ScrewPartSpec, WallGenerator};
 use super::{KeyPath, Scene, SceneError};
 use crate::math::{DQuat, DVec3};
 use crate::wall::{
-    generators, Ends, Facing, Hand, MeshWall, MotionError, Screw, TriMesh, WallMotion,
+    generators, Casing, Ends, Facing, Hand, MeshWall, MotionError, Screw, ScrewPart, TriMesh,
+    WallMotion,
 };
 
 /// Every `[[mesh_wall]]` of the scene, placed.
@@ -46,12 +47,34 @@ pub fn build(scene: &Scene) -> Result<Vec<MeshWall>, SceneError> {
             .into_wall(material)
             .map_err(|e| scene.error(key("file"), e.to_string()))?;
         if let Some(m) = &spec.motion {
+            if m.rpm.is_some() && turns_its_casing(spec.generator.as_ref()) {
+                return Err(scene.error(
+                    key("generator.part"),
+                    "this screw's tube or trough would turn with it: set `part = \"screw\"` \
+                     here and add the casing as a fixed [[mesh_wall]] with the same generator and \
+                     `part = \"casing\"` (a tube that really turns with its screw: a separate \
+                     `cylinder` wall with the same motion)",
+                ));
+            }
             wall.motion =
                 motion(m).map_err(|(k, e)| scene.error(key(&format!("motion.{k}")), e))?;
         }
         walls.push(wall);
     }
     Ok(walls)
+}
+
+/// True for a screw generator that makes the flight and its casing in one wall.
+fn turns_its_casing(generator: Option<&WallGenerator>) -> bool {
+    matches!(
+        generator,
+        Some(WallGenerator::Screw {
+            part: ScrewPartSpec::All,
+            tube_clearance,
+            trough_clearance,
+            ..
+        }) if tube_clearance.is_some() || trough_clearance.is_some()
+    )
 }
 
 /// The motion of a `[mesh_wall.motion]` table, or the key at fault and why.
@@ -124,6 +147,30 @@ fn ends(closed: bool) -> Ends {
     }
 }
 
+/// A screw's casing from its keys: a tube or a trough (whose sides reach, unless told, as high
+/// above the axis as its radius), or none.
+fn casing(
+    flight_radius: f64,
+    tube_clearance: Option<f64>,
+    trough_clearance: Option<f64>,
+    trough_height: Option<f64>,
+) -> Result<Casing, generators::GeneratorError> {
+    let error = |m: &str| Err(generators::GeneratorError(m.into()));
+    match (tube_clearance, trough_clearance, trough_height) {
+        (Some(_), Some(_), _) => error(
+            "give either `tube_clearance` (a tube round the screw) or `trough_clearance` \
+             (a trough open towards +y), not both",
+        ),
+        (_, None, Some(_)) => error("`trough_height` is given without `trough_clearance`"),
+        (Some(clearance), None, None) => Ok(Casing::Tube { clearance }),
+        (None, Some(clearance), height) => Ok(Casing::Trough {
+            clearance,
+            height: height.unwrap_or(flight_radius + clearance),
+        }),
+        (None, None, None) => Ok(Casing::None),
+    }
+}
+
 fn generate(g: &WallGenerator) -> Result<TriMesh, generators::GeneratorError> {
     match *g {
         WallGenerator::Rectangle {
@@ -180,6 +227,9 @@ fn generate(g: &WallGenerator) -> Result<TriMesh, generators::GeneratorError> {
             radial_segments,
             shaft,
             tube_clearance,
+            trough_clearance,
+            trough_height,
+            part,
         } => generators::screw(&Screw {
             shaft_radius,
             flight_radius,
@@ -190,7 +240,17 @@ fn generate(g: &WallGenerator) -> Result<TriMesh, generators::GeneratorError> {
             segments_per_turn,
             radial_segments,
             shaft,
-            tube_clearance,
+            casing: casing(
+                flight_radius,
+                tube_clearance,
+                trough_clearance,
+                trough_height,
+            )?,
+            part: match part {
+                ScrewPartSpec::All => ScrewPart::All,
+                ScrewPartSpec::Screw => ScrewPart::Screw,
+                ScrewPartSpec::Casing => ScrewPart::Casing,
+            },
         }),
     }
 }

@@ -341,8 +341,38 @@ pub struct Screw {
     pub radial_segments: usize,
     /// Include the shaft (a closed cylinder from the bottom to the top of the flight).
     pub shaft: bool,
-    /// A tube around the screw with this radial clearance beyond the flight (open ends).
-    pub tube_clearance: Option<f64>,
+    /// The casing around the flight, if any.
+    pub casing: Casing,
+    /// Which of screw and casing go into the mesh.
+    pub part: ScrewPart,
+}
+
+/// What surrounds a screw's flight (open at both ends, facing the screw).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Casing {
+    None,
+    /// A tube of radius flight radius + `clearance`.
+    Tube {
+        clearance: f64,
+    },
+    /// A U-shaped trough open towards +y: the half of a tube of radius flight radius +
+    /// `clearance` at y ≤ 0, continued by two flat sides (x = ± that radius) up to y = `height`.
+    Trough {
+        clearance: f64,
+        height: f64,
+    },
+}
+
+/// Which parts of a screw a generated mesh holds. A turning screw and its fixed casing are two
+/// walls with the same parameters: one `Screw`, one `Casing`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScrewPart {
+    /// Flight and shaft and casing.
+    All,
+    /// Flight and shaft.
+    Screw,
+    /// The casing only.
+    Casing,
 }
 
 impl Screw {
@@ -356,8 +386,8 @@ impl Screw {
 /// The screw's flight: a closed-solid helical strip of axial thickness `thickness` from the
 /// shaft radius to the flight radius — top and bottom helicoids z = p θ / 2π ± t/2, the outer rim
 /// and the two end faces — open only along its root, which lies on the shaft's facets (they share
-/// the angular division). With `shaft`, a closed cylinder; with `tube_clearance`, an inward tube.
-/// Facing outward (the tube inward).
+/// the angular division). With `shaft`, a closed cylinder; with a casing, an inward tube or
+/// trough. Facing outward (the casing inward).
 pub fn screw(s: &Screw) -> Result<TriMesh, GeneratorError> {
     positive("shaft radius", s.shaft_radius)?;
     positive("pitch", s.pitch)?;
@@ -385,10 +415,41 @@ pub fn screw(s: &Screw) -> Result<TriMesh, GeneratorError> {
         )
     })?;
     at_least_one("radial segments", s.radial_segments)?;
-    if let Some(c) = s.tube_clearance {
-        positive("tube clearance", c)?;
+    match s.casing {
+        Casing::None => require(s.part != ScrewPart::Casing, || {
+            "a screw's casing was asked for but it has none: give a tube or trough clearance".into()
+        })?,
+        Casing::Tube { clearance } => positive("tube clearance", clearance)?,
+        Casing::Trough { clearance, height } => {
+            positive("trough clearance", clearance)?;
+            require(height.is_finite() && height >= 0.0, || {
+                format!(
+                    "trough height = {height} is not allowed: must be a finite number ≥ 0 \
+                     (the sides' height above the axis)"
+                )
+            })?;
+        }
     }
 
+    let mut mesh = TriMesh::default();
+    if s.part != ScrewPart::Casing {
+        mesh = flight_and_shaft(s)?;
+        if s.hand == Hand::Left {
+            // A mirror image turns the other way; mirroring also reverses the winding.
+            for v in &mut mesh.vertices {
+                v.y = -v.y;
+            }
+            mesh = mesh.flipped();
+        }
+    }
+    if s.part != ScrewPart::Screw {
+        mesh.append(&casing(s)?);
+    }
+    Ok(mesh)
+}
+
+/// The flight, and the shaft when asked for (facing outward).
+fn flight_and_shaft(s: &Screw) -> Result<TriMesh, GeneratorError> {
     let total = TAU * s.turns;
     let steps = (s.turns * s.segments_per_turn as f64 - 1e-9)
         .ceil()
@@ -470,26 +531,63 @@ pub fn screw(s: &Screw) -> Result<TriMesh, GeneratorError> {
         .transformed(1.0, DQuat::IDENTITY, DVec3::new(0.0, 0.0, z0));
         mesh.append(&shaft);
     }
-    if let Some(c) = s.tube_clearance {
-        let tube = cylinder(
-            s.flight_radius + c,
+    Ok(mesh)
+}
+
+/// The casing over the flight's axial range (facing inward; empty without one).
+fn casing(s: &Screw) -> Result<TriMesh, GeneratorError> {
+    let (z0, z1) = s.z_range();
+    let rings = (s.turns.ceil() as usize).max(1);
+    let mesh = match s.casing {
+        Casing::None => TriMesh::default(),
+        Casing::Tube { clearance } => cylinder(
+            s.flight_radius + clearance,
             z1 - z0,
             s.segments_per_turn,
-            (s.turns.ceil() as usize).max(1),
+            rings,
             Ends::Open,
             Facing::Inward,
-        )?
-        .transformed(1.0, DQuat::IDENTITY, DVec3::new(0.0, 0.0, z0));
-        mesh.append(&tube);
-    }
-    if s.hand == Hand::Left {
-        // A mirror image turns the other way; mirroring also reverses the winding.
-        for v in &mut mesh.vertices {
-            v.y = -v.y;
+        )?,
+        Casing::Trough { clearance, height } => {
+            let radius = s.flight_radius + clearance;
+            // Cross-section from the top of the side at −x, round the bottom, to the top at +x.
+            let arc = s.segments_per_turn.div_ceil(2);
+            let mut section = Vec::with_capacity(arc + 3);
+            if height > 0.0 {
+                section.push((-radius, height));
+            }
+            for i in 0..=arc {
+                let a = std::f64::consts::PI * (1.0 + i as f64 / arc as f64);
+                section.push((radius * a.cos(), radius * a.sin()));
+            }
+            if height > 0.0 {
+                section.push((radius, height));
+            }
+            extrusion(&section, z1 - z0, rings).facing(Facing::Inward)
         }
-        mesh = mesh.flipped();
+    };
+    Ok(mesh.transformed(1.0, DQuat::IDENTITY, DVec3::new(0.0, 0.0, z0)))
+}
+
+/// The open polyline `section` in the xy plane swept along z from 0 to `length` in `rings`
+/// steps; facing outward means facing the right of the polyline's direction seen from +z.
+fn extrusion(section: &[(f64, f64)], length: f64, rings: usize) -> TriMesh {
+    let mut m = TriMesh::default();
+    for k in 0..=rings {
+        let z = length * k as f64 / rings as f64;
+        m.vertices
+            .extend(section.iter().map(|&(x, y)| DVec3::new(x, y, z)));
     }
-    Ok(mesh)
+    let n = section.len() as u32;
+    for k in 0..rings as u32 {
+        for i in 0..n - 1 {
+            let (a, b) = (k * n + i, k * n + i + 1);
+            let (c, d) = (b + n, a + n);
+            m.triangles.push([a, b, c]);
+            m.triangles.push([a, c, d]);
+        }
+    }
+    m
 }
 
 #[cfg(test)]
@@ -589,7 +687,8 @@ mod tests {
             segments_per_turn: 72,
             radial_segments: 3,
             shaft: false,
-            tube_clearance: None,
+            casing: Casing::None,
+            part: ScrewPart::All,
         }
     }
 
@@ -656,7 +755,7 @@ mod tests {
 
         let mut full = flight(Hand::Left);
         full.shaft = true;
-        full.tube_clearance = Some(0.005);
+        full.casing = Casing::Tube { clearance: 0.005 };
         let m = screw(&full).unwrap();
         let n = 72;
         assert_eq!(
@@ -674,5 +773,51 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("flight radius"));
+    }
+
+    #[test]
+    fn screw_trough_and_parts() {
+        let (clearance, height) = (0.004, 0.03);
+        let mut s = flight(Hand::Left);
+        s.shaft = true;
+        s.casing = Casing::Trough { clearance, height };
+        let all = screw(&s).unwrap();
+        s.part = ScrewPart::Screw;
+        let screw_only = screw(&s).unwrap();
+        s.part = ScrewPart::Casing;
+        let trough = screw(&s).unwrap();
+        assert_eq!(
+            all.triangles.len(),
+            screw_only.triangles.len() + trough.triangles.len()
+        );
+        // Half a 72-gon of radius R plus two sides of `height`, over the flight's length.
+        let radius = s.flight_radius + clearance;
+        let (z0, z1) = s.z_range();
+        let arc = 36.0 * 2.0 * radius * (PI / 72.0).sin();
+        assert!((trough.area() - (arc + 2.0 * height) * (z1 - z0)).abs() < 1e-12);
+        assert_eq!(trough.triangles.len(), 2 * (36 + 2) * 3);
+        // Open towards +y even for a left-handed screw, and facing the axis: every facet's
+        // normal points into the U (towards the axis on the arc, inwards on the sides).
+        for t in 0..trough.triangles.len() {
+            let [a, b, c] = trough.triangles[t].map(|i| trough.vertices[i as usize]);
+            let centre = (a + b + c) / 3.0;
+            assert!(centre.y < height + 1e-12 && centre.z > z0 - 1e-12 && centre.z < z1 + 1e-12);
+            let inward = if centre.y > 0.0 {
+                DVec3::new(-centre.x.signum(), 0.0, 0.0)
+            } else {
+                -DVec3::new(centre.x, centre.y, 0.0).normalize()
+            };
+            assert!(normal(&trough, t).dot(inward) > 0.99, "facet {t}");
+        }
+        // Open ends and an open top: the boundary is the two end sections and the two top edges.
+        assert_eq!(trough.boundary_edges().len(), 2 * (36 + 2) + 2 * 3);
+
+        s.casing = Casing::None;
+        assert!(screw(&s).unwrap_err().to_string().contains("casing"));
+        s.casing = Casing::Trough {
+            clearance,
+            height: -1.0,
+        };
+        assert!(screw(&s).unwrap_err().to_string().contains("trough height"));
     }
 }

@@ -5,7 +5,7 @@ mod mesh;
 mod motion;
 mod plane;
 
-pub use generators::{Ends, Facing, GeneratorError, Hand, Screw, TriMesh};
+pub use generators::{Casing, Ends, Facing, GeneratorError, Hand, Screw, ScrewPart, TriMesh};
 pub use mesh::{Feature, MeshWall, MeshWallError, DEFAULT_SMOOTH_ANGLE};
 pub use motion::{MotionError, WallMotion, WallPose, WallState};
 pub use plane::Plane;
