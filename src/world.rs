@@ -497,26 +497,45 @@ impl World {
             .for_each_init(
                 || {
                     let convex = (ConvexMeshScratch::default(), Vec::new());
-                    (MeshScratch::default(), Vec::new(), convex)
+                    (
+                        MeshScratch::default(),
+                        Vec::new(),
+                        convex,
+                        RegionScratch::new(),
+                    )
                 },
-                |(scratch, out, (convex_scratch, convex_out)), (i, slots)| {
-                    let sphere = match &shapes[bodies.shape[i] as usize] {
+                |(scratch, out, (convex_scratch, convex_out), regions), (i, slots)| {
+                    let shape = &shapes[bodies.shape[i] as usize];
+                    let sphere = match shape {
                         Shape::Sphere(sphere) => sphere,
-                        Shape::Convex(p) => {
+                        Shape::Convex(_) | Shape::NonConvex(_) => {
                             for (w, wall) in walls.iter().enumerate() {
                                 // In the wall's reference placement, as for spheres below.
                                 let pose = wall.pose();
                                 let x = pose.to_reference(bodies.position[i]);
                                 let q = pose.rotation.inverse() * bodies.orientation[i];
-                                narrow_phase::convex_mesh_contacts(
-                                    p,
-                                    x,
-                                    q,
-                                    wall,
-                                    law,
-                                    convex_scratch,
-                                    convex_out,
-                                );
+                                match shape {
+                                    Shape::Convex(p) => narrow_phase::convex_mesh_contacts(
+                                        p,
+                                        x,
+                                        q,
+                                        wall,
+                                        law,
+                                        convex_scratch,
+                                        convex_out,
+                                    ),
+                                    // The vertex law on its mesh, whether or not it has parts.
+                                    Shape::NonConvex(p) => narrow_phase::nonconvex_mesh_contacts(
+                                        p,
+                                        x,
+                                        q,
+                                        wall,
+                                        convex_scratch,
+                                        regions,
+                                        convex_out,
+                                    ),
+                                    Shape::Sphere(_) => unreachable!("spheres are below"),
+                                }
                                 for (slot, g) in slots[w * MESH_REGIONS..(w + 1) * MESH_REGIONS]
                                     .iter_mut()
                                     .zip(convex_out.iter())
@@ -526,8 +545,6 @@ impl World {
                             }
                             return;
                         }
-                        // Not yet supported: scenes refuse non-convex bodies with mesh walls.
-                        Shape::NonConvex(_) => return,
                     };
                     let r = sphere.radius;
                     for (w, wall) in walls.iter().enumerate() {
@@ -567,12 +584,18 @@ impl World {
                 let mut pending = [None; MESH_REGIONS];
                 for (k, g) in regions.iter().enumerate() {
                     let Some(g) = g else { continue };
+                    // Of last step's regions facing about the same way, the nearest: a jack's
+                    // arms on a floor share the normal but not the place.
                     let matched = before
                         .iter()
                         .filter(|c| (c.b as usize) / MESH_REGIONS == w)
-                        .map(|c| (c.b as usize % MESH_REGIONS, c.geometry.normal.dot(g.normal)))
-                        .filter(|&(slot, cos)| !used[slot] && cos > FRAC_1_SQRT_2)
-                        .max_by(|p, q| p.1.total_cmp(&q.1))
+                        .filter(|c| c.geometry.normal.dot(g.normal) > FRAC_1_SQRT_2)
+                        .map(|c| {
+                            let slot = c.b as usize % MESH_REGIONS;
+                            (slot, (c.geometry.point - g.point).length_squared())
+                        })
+                        .filter(|&(slot, _)| !used[slot])
+                        .min_by(|p, q| p.1.total_cmp(&q.1))
                         .map(|(slot, _)| slot);
                     if let Some(slot) = matched {
                         used[slot] = true;

@@ -74,10 +74,11 @@
 use super::clip::{clip_polygon, Plane, PLANE_TOLERANCE};
 use super::convex_convex::VolumeContact;
 use super::dispatch::{springs, volume_geometry};
+use super::nonconvex::{mesh_wall_regions, RegionScratch};
 use super::Geometry;
 use crate::contact_law::PolyhedralLaw;
 use crate::math::{Aabb, DMat3, DQuat, DVec3};
-use crate::shape::ConvexPolyhedron;
+use crate::shape::{ConvexPolyhedron, NonConvexPolyhedron};
 use crate::wall::MeshWall;
 use crate::world::MESH_REGIONS;
 
@@ -115,7 +116,8 @@ pub struct ConvexMeshScratch {
     pieces: Vec<Piece>,
     /// Vertex law: (vertex, depth) of the vertices in each piece's cell.
     points: Vec<(u32, f64)>,
-    springs: Vec<(u32, f64, DVec3)>,
+    /// Vertex law: (vertex, depth, plane it is behind) of a region.
+    springs: Vec<(u32, f64, Plane)>,
 }
 
 /// A triangle that may press on the body: the body's centre is in front of its plane and part
@@ -148,7 +150,8 @@ struct Class {
 /// The part of the body in one triangle's cell.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
-    normal: DVec3,
+    /// The plane of the piece's triangle.
+    face: Plane,
     volume: f64,
     /// V times the centroid (relative to the body's centre).
     moment: DVec3,
@@ -195,6 +198,54 @@ pub fn convex_mesh_contacts(
     scratch: &mut ConvexMeshScratch,
     out: &mut Vec<Geometry>,
 ) {
+    pressed_contacts(Pressed::Convex(p), x, q, wall, law, scratch, None, out);
+}
+
+/// The contacts of a non-convex (mesh) body with a mesh wall, into `out` (cleared first): the
+/// vertex law in the cells of the wall's triangles as for a convex body, each region of the wall
+/// split further into the connected groups of the body's vertices in it, as against a plane
+/// (`nonconvex::mesh_plane`: the arms of a jack lying on a floor are contacts of their own). At
+/// most [`MESH_REGIONS`] contacts, the largest first.
+pub fn nonconvex_mesh_contacts(
+    shape: &NonConvexPolyhedron,
+    x: DVec3,
+    q: DQuat,
+    wall: &MeshWall,
+    scratch: &mut ConvexMeshScratch,
+    regions: &mut RegionScratch,
+    out: &mut Vec<Geometry>,
+) {
+    pressed_contacts(
+        Pressed::Mesh(shape),
+        x,
+        q,
+        wall,
+        PolyhedralLaw::Vertex,
+        scratch,
+        Some(regions),
+        out,
+    );
+}
+
+/// A body pressed against a mesh wall.
+#[derive(Clone, Copy)]
+enum Pressed<'a> {
+    Convex(&'a ConvexPolyhedron),
+    /// Under the vertex law only.
+    Mesh(&'a NonConvexPolyhedron),
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pressed_contacts(
+    body: Pressed,
+    x: DVec3,
+    q: DQuat,
+    wall: &MeshWall,
+    law: PolyhedralLaw,
+    scratch: &mut ConvexMeshScratch,
+    mut regions: Option<&mut RegionScratch>,
+    out: &mut Vec<Geometry>,
+) {
     out.clear();
     let ConvexMeshScratch {
         vertices,
@@ -212,7 +263,10 @@ pub fn convex_mesh_contacts(
         points,
         springs: spring_list,
     } = scratch;
-    let radius = p.bounding_radius();
+    let (radius, body_vertices, faces) = match body {
+        Pressed::Convex(p) => (p.bounding_radius(), p.vertices(), p.faces()),
+        Pressed::Mesh(m) => (m.bounding_radius(), m.vertices(), &[][..]),
+    };
     if !wall
         .bounds()
         .overlaps(&Aabb::around_sphere(x, (1.0 + SEARCH_MARGIN) * radius))
@@ -222,7 +276,7 @@ pub fn convex_mesh_contacts(
     let tolerance = PLANE_TOLERANCE * radius;
     let rotation = DMat3::from_quat(q);
     vertices.clear();
-    vertices.extend(p.vertices().iter().map(|&v| rotation * v));
+    vertices.extend(body_vertices.iter().map(|&v| rotation * v));
     let (lo, hi) = vertices
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
@@ -322,7 +376,7 @@ pub fn convex_mesh_contacts(
     bounds.sort_by_key(|&(c, _)| c);
 
     planes.clear();
-    planes.extend(p.faces().iter().map(|f| Plane {
+    planes.extend(faces.iter().map(|f| Plane {
         normal: rotation * f.normal,
         offset: f.offset,
     }));
@@ -371,7 +425,7 @@ pub fn convex_mesh_contacts(
         }
         let first_point = points.len();
         let mut piece = Piece {
-            normal: face.normal,
+            face,
             volume: 0.0,
             moment: DVec3::ZERO,
             area: 0.0,
@@ -398,7 +452,7 @@ pub fn convex_mesh_contacts(
                 let deepest = vertices[deepest];
                 let r = deepest - face.normal * face.distance(deepest);
                 let mut sums = Sums::default();
-                for (f, plane) in p.faces().iter().zip(planes.iter()) {
+                for (f, plane) in faces.iter().zip(planes.iter()) {
                     polygon.clear();
                     polygon.extend(f.vertices.iter().map(|&i| vertices[i]));
                     if clip_polygon(
@@ -507,17 +561,23 @@ pub fn convex_mesh_contacts(
                     spring_list.extend(
                         points[piece.points.0..piece.points.1]
                             .iter()
-                            .map(|&(v, depth)| (v, depth, piece.normal)),
+                            .map(|&(v, depth)| (v, depth, piece.face)),
                     );
                 }
                 // Once per vertex: the first triangle's (in mesh order) of those it lies in.
                 spring_list.sort_by_key(|s| s.0);
                 spring_list.dedup_by_key(|s| s.0);
-                springs(
-                    spring_list
-                        .iter()
-                        .map(|&(v, depth, n)| (x + vertices[v as usize], depth, n)),
-                )
+                match (body, regions.as_deref_mut()) {
+                    (Pressed::Mesh(shape), Some(scratch)) => {
+                        mesh_wall_regions(shape, rotation, x, spring_list, scratch, out);
+                        None
+                    }
+                    _ => springs(
+                        spring_list
+                            .iter()
+                            .map(|&(v, depth, f)| (x + vertices[v as usize], depth, f.normal)),
+                    ),
+                }
             }
             PolyhedralLaw::Volume => {
                 region_contact(pieces, classes, region, x, tolerance).map(volume_geometry)
@@ -856,6 +916,94 @@ mod tests {
             }
         }
         assert!(compared > 2000, "{compared}");
+    }
+
+    /// Jacks and crosses sunk into a flat square wall (turned at random) of 2 or of 200
+    /// triangles: the same contacts as against the plane (`body_plane_regions`: one per group of
+    /// the body's vertices behind it, so each arm on the floor is its own), to 1e-9.
+    #[test]
+    fn non_convex_bodies_on_a_flat_wall_match_the_plane() {
+        use crate::narrow_phase::{body_plane_regions, RegionScratch};
+        use crate::shape::nonconvex_generators::{cross, jack};
+        let shapes = [
+            Shape::NonConvex(jack(0.6, 0.2).unwrap().build(false).unwrap().0.into()),
+            Shape::NonConvex(
+                cross(0.6, 0.15, 0.1)
+                    .unwrap()
+                    .build(false)
+                    .unwrap()
+                    .0
+                    .into(),
+            ),
+        ];
+        let mut rng = SplitMix64::new(5);
+        let (mut scratch, mut regions) = (ConvexMeshScratch::default(), RegionScratch::new());
+        let (mut out, mut reference) = (Vec::new(), Vec::new());
+        let (mut compared, mut several) = (0, 0);
+        let by_size = |g: &Geometry| -overlap(g).load;
+        for _ in 0..200 {
+            let turn = if rng.next_f64() < 0.5 {
+                DQuat::IDENTITY
+            } else {
+                random_quat(&mut rng)
+            };
+            let origin = DVec3::new(rng.uniform(-2.0, 2.0), 0.3, rng.uniform(-1.0, 1.0));
+            let walls = [square(1, origin, turn), square(10, origin, turn)];
+            for shape in &shapes {
+                let Shape::NonConvex(p) = shape else {
+                    unreachable!()
+                };
+                let q = random_quat(&mut rng);
+                let radius = p.bounding_radius();
+                // Deepest vertex sunk by 0.1 % to 20 % of the radius, the body over the square.
+                let lowest = p
+                    .vertices()
+                    .iter()
+                    .map(|&v| (q * v).z)
+                    .fold(f64::INFINITY, f64::min);
+                let sink = radius * 10f64.powf(rng.uniform(-3.0, -0.7));
+                let local = DVec3::new(
+                    rng.uniform(-0.3, 0.3),
+                    rng.uniform(-0.3, 0.3),
+                    -lowest - sink,
+                );
+                let (x, orientation) = (origin + turn * local, turn * q);
+                let posed = Posed {
+                    shape,
+                    position: x,
+                    orientation,
+                };
+                body_plane_regions(
+                    posed,
+                    origin,
+                    turn * DVec3::Z,
+                    PolyhedralLaw::Vertex,
+                    &mut regions,
+                    &mut reference,
+                );
+                reference.sort_by(|a, b| by_size(a).total_cmp(&by_size(b)));
+                reference.truncate(MESH_REGIONS);
+                several += usize::from(reference.len() > 1);
+                for wall in &walls {
+                    nonconvex_mesh_contacts(
+                        p,
+                        x,
+                        orientation,
+                        wall,
+                        &mut scratch,
+                        &mut regions,
+                        &mut out,
+                    );
+                    let what = format!("{} triangles", wall.triangles().len());
+                    assert_eq!(out.len(), reference.len(), "{what}: {out:?}");
+                    for (g, r) in out.iter().zip(&reference) {
+                        assert_same(g, r, radius, 1e-9, &what);
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared == 800 && several > 20, "{compared}, {several}");
     }
 
     /// A cube whose bottom vertices lie exactly on edges, or exactly on vertices, shared by

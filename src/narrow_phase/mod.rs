@@ -17,7 +17,9 @@ mod vertex_penetration;
 
 pub use clip::{ClipScratch, Plane};
 pub use convex_convex::{convex_convex, VolumeContact};
-pub use convex_mesh::{convex_mesh, convex_mesh_contacts, ConvexMeshScratch};
+pub use convex_mesh::{
+    convex_mesh, convex_mesh_contacts, nonconvex_mesh_contacts, ConvexMeshScratch,
+};
 pub use convex_plane::convex_plane;
 pub use convex_sphere::{convex_sphere, spherical_cap_volume, SphereContact};
 pub use dispatch::{

@@ -1122,6 +1122,76 @@ pub fn mesh_plane(
     regions_of_points(scratch, pose.position, out);
 }
 
+/// The contact regions of a mesh body pressed into one region of a mesh wall (see
+/// `convex_mesh`): `springs` are its vertices behind the wall, sorted by vertex, each with its
+/// depth and the plane of the wall face it lies behind (relative to the body's centre `origin`,
+/// world axes; `rotation` turns the body frame to the world). As against a plane (`mesh_plane`),
+/// vertices joined by an edge of the body are one region, and the crossings of that face's plane
+/// by the edges that leave it outline the region (for its area).
+pub fn mesh_wall_regions(
+    shape: &NonConvexPolyhedron,
+    rotation: DMat3,
+    origin: DVec3,
+    springs: &[(u32, f64, Plane)],
+    scratch: &mut RegionScratch,
+    out: &mut Vec<Geometry>,
+) {
+    scratch.clear();
+    let (vertices, surface) = (shape.vertices(), shape.surface());
+    let position = |v: u32| rotation * vertices[v as usize];
+    for &(v, depth, face) in springs {
+        let p = scratch.push_point(Point::spring(position(v), depth, face.normal));
+        scratch.inside_a.push((v, p));
+    }
+    let mut edges = std::mem::take(&mut scratch.edges);
+    edges.clear();
+    for &(v, ..) in springs {
+        for &t in surface.triangles_of_vertex(v) {
+            edges.extend_from_slice(&surface.triangle_edges()[t as usize]);
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let find = |inside: &[(u32, u32)], v: u32| {
+        inside
+            .binary_search_by_key(&v, |&(u, _)| u)
+            .ok()
+            .map(|k| k as u32)
+    };
+    for &e in &edges {
+        let [v0, v1] = surface.edges()[e as usize];
+        match (find(&scratch.inside_a, v0), find(&scratch.inside_a, v1)) {
+            (Some(i), Some(j)) => {
+                let (i, j) = (
+                    scratch.inside_a[i as usize].1,
+                    scratch.inside_a[j as usize].1,
+                );
+                scratch.union(i, j);
+            }
+            (Some(k), None) | (None, Some(k)) => {
+                let (inside, outside) = if find(&scratch.inside_a, v0).is_some() {
+                    (v0, v1)
+                } else {
+                    (v1, v0)
+                };
+                let (_, depth, face) = springs[k as usize];
+                let (p, q) = (position(inside), position(outside));
+                let beyond = -face.distance(q);
+                // Only an edge that comes out in front of the face crosses it.
+                if beyond < 0.0 {
+                    let x = p + (q - p) * (depth / (depth - beyond));
+                    let c = scratch.push_point(Point::mark(x));
+                    let i = scratch.inside_a[k as usize].1;
+                    scratch.union(i, c);
+                }
+            }
+            (None, None) => {}
+        }
+    }
+    scratch.edges = edges;
+    regions_of_points(scratch, origin, out);
+}
+
 /// The contacts of a mesh body with a sphere (`centre`, `radius`), normals pointing from the
 /// sphere towards the body: the sphere–mesh contacts of the body's surface (one per local
 /// minimum of the distance, see `sphere_mesh`), worked in the body frame.

@@ -304,9 +304,6 @@ impl Scene {
 
         let mesh_walls = walls::build(self)?;
         let shapes = shapes::build(self)?;
-        if !mesh_walls.is_empty() {
-            self.refuse_non_convex_with_mesh_walls(&shapes)?;
-        }
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
@@ -642,41 +639,6 @@ impl Scene {
         .transpose()
     }
 
-    /// Mesh walls collide with spheres and convex polyhedra, not yet with non-convex bodies: a
-    /// scene that would put one next to a mesh wall is refused rather than letting it pass
-    /// through.
-    fn refuse_non_convex_with_mesh_walls(
-        &self,
-        shapes: &BTreeMap<String, shapes::BuiltShape>,
-    ) -> Result<(), SceneError> {
-        let non_convex = |name: &Option<String>| {
-            name.as_ref()
-                .and_then(|n| shapes.get(n))
-                .is_some_and(|b| matches!(b.shape, Shape::NonConvex(_)))
-        };
-        let offender = self
-            .spec
-            .particles
-            .iter()
-            .position(|p| non_convex(&p.shape))
-            .map(|n| KeyPath::entry("particle", n).key("shape"))
-            .or_else(|| {
-                self.spec
-                    .insertions
-                    .iter()
-                    .position(|i| non_convex(&i.shape))
-                    .map(|n| KeyPath::entry("insert", n).key("shape"))
-            });
-        match offender {
-            Some(key) => Err(self.error(
-                key,
-                "non-convex particles cannot meet [[mesh_wall]]s yet (spheres and convex \
-                 polyhedra can); use [[plane]] walls with non-convex shapes for now",
-            )),
-            None => Ok(()),
-        }
-    }
-
     /// Refuses bodies that start overlapping a mesh wall by more than the tolerance (times the
     /// sphere's radius, or the polyhedron's volume-equivalent radius; for a polyhedron the
     /// overlap is the mean depth of the run's volume-law contact, as between bodies).
@@ -699,8 +661,19 @@ impl Scene {
                         wall,
                         crate::contact_law::PolyhedralLaw::Volume,
                     ),
-                    // Refused with mesh walls before this check.
-                    Shape::NonConvex(_) => Vec::new(),
+                    Shape::NonConvex(p) => {
+                        let mut found = Vec::new();
+                        crate::narrow_phase::nonconvex_mesh_contacts(
+                            p,
+                            b.position,
+                            b.orientation,
+                            wall,
+                            &mut Default::default(),
+                            &mut Default::default(),
+                            &mut found,
+                        );
+                        found
+                    }
                 };
                 let deepest = contacts.iter().map(|g| g.overlap).fold(0.0, f64::max);
                 if deepest > tolerance * b.shape.equivalent_radius() {
