@@ -4,6 +4,8 @@
 //! laws. A closed mesh box keeps hard-shaken cubes and tetrahedra in, and the runs are independent
 //! of the thread count.
 
+mod common;
+
 use polydem::body::BodyInit;
 use polydem::contact_law::{NormalLaw, PolyhedralLaw};
 use polydem::material::{Material, PairTable};
@@ -369,35 +371,12 @@ seed = 2
         let mut rng = SplitMix64::new(99);
         let (mut wall_contacts, mut deepest) = (0usize, 0.0f64);
         for _ in 0..400 {
-            for i in 0..w.bodies.len() {
-                let direction = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
-                w.bodies.velocity[i] = direction * rng.uniform(1.0, 4.0);
-                let spin = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize()
-                    * rng.uniform(0.0, 400.0);
-                // L = R I Rᵀ ω (principal moments in the body frame).
-                let q = w.bodies.orientation[i];
-                w.bodies.angular_momentum[i] = q * (w.bodies.inertia[i] * (q.inverse() * spin));
-                w.bodies.angular_velocity[i] = spin;
-            }
+            common::kick(w, &mut rng, (1.0, 4.0), 400.0);
             for _ in 0..100 {
                 w.step();
                 wall_contacts += w.mesh_contacts.len();
             }
-            for i in 0..w.bodies.len() {
-                let x = w.bodies.position[i];
-                let Shape::Convex(shape) = &w.shapes[w.bodies.shape[i] as usize] else {
-                    unreachable!()
-                };
-                assert!(
-                    x.cmpgt(DVec3::ZERO).all() && x.cmplt(DVec3::splat(SIZE)).all(),
-                    "{law}: body {i} left the box: {x:?}"
-                );
-                for &v in shape.vertices() {
-                    let y = x + w.bodies.orientation[i] * v;
-                    let out = (-y.min_element()).max((y - DVec3::splat(SIZE)).max_element());
-                    deepest = deepest.max(out);
-                }
-            }
+            deepest = deepest.max(common::deepest_outside_box(w, SIZE, law));
         }
         println!(
             "{law} law: {wall_contacts} wall contacts over 40 000 steps; deepest vertex {deepest:.2e} \

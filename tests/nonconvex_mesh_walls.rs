@@ -1,6 +1,8 @@
 //! Non-convex bodies (jacks) against triangle-mesh walls: the same contacts as against a plane on
 //! a flat mesh however it is triangulated, and no way out of a closed mesh box.
 
+mod common;
+
 use polydem::body::BodyInit;
 use polydem::contact_law::NormalLaw;
 use polydem::material::{Material, PairTable};
@@ -167,34 +169,12 @@ seed = 1
     let mut rng = SplitMix64::new(7);
     let (mut wall_contacts, mut deepest) = (0usize, 0.0f64);
     for _ in 0..300 {
-        for i in 0..w.bodies.len() {
-            let direction = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
-            w.bodies.velocity[i] = direction * rng.uniform(1.0, 3.0);
-            let spin = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize()
-                * rng.uniform(0.0, 300.0);
-            let q = w.bodies.orientation[i];
-            w.bodies.angular_momentum[i] = q * (w.bodies.inertia[i] * (q.inverse() * spin));
-            w.bodies.angular_velocity[i] = spin;
-        }
+        common::kick(w, &mut rng, (1.0, 3.0), 300.0);
         for _ in 0..100 {
             w.step();
             wall_contacts += w.mesh_contacts.len();
         }
-        for i in 0..w.bodies.len() {
-            let x = w.bodies.position[i];
-            let Shape::NonConvex(shape) = &w.shapes[w.bodies.shape[i] as usize] else {
-                unreachable!("only jacks were inserted")
-            };
-            assert!(
-                x.cmpgt(DVec3::ZERO).all() && x.cmplt(DVec3::splat(SIZE)).all(),
-                "jack {i} left the box: {x:?}"
-            );
-            for &v in shape.vertices() {
-                let y = x + w.bodies.orientation[i] * v;
-                let out = (-y.min_element()).max((y - DVec3::splat(SIZE)).max_element());
-                deepest = deepest.max(out);
-            }
-        }
+        deepest = deepest.max(common::deepest_outside_box(w, SIZE, "jacks"));
     }
     println!(
         "{wall_contacts} wall contacts over 30 000 steps; deepest vertex {deepest:.2e} m outside \

@@ -816,6 +816,22 @@ mod tests {
         .unwrap()
     }
 
+    /// A square wall of 2 and one of 200 triangles in the same plane, turned at random half the
+    /// time: its centre, its turn and the two walls.
+    fn random_squares(rng: &mut SplitMix64) -> (DVec3, DQuat, [MeshWall; 2]) {
+        let turn = if rng.next_f64() < 0.5 {
+            DQuat::IDENTITY
+        } else {
+            random_quat(rng)
+        };
+        let origin = DVec3::new(rng.uniform(-2.0, 2.0), 0.3, rng.uniform(-1.0, 1.0));
+        (
+            origin,
+            turn,
+            [square(1, origin, turn), square(10, origin, turn)],
+        )
+    }
+
     fn unit_box(divisions: usize, facing: Facing) -> MeshWall {
         box_mesh(DVec3::ZERO, DVec3::ONE, divisions, facing)
             .unwrap()
@@ -874,13 +890,7 @@ mod tests {
         let mut out = Vec::new();
         let mut compared = 0;
         for _ in 0..300 {
-            let turn = if rng.next_f64() < 0.5 {
-                DQuat::IDENTITY
-            } else {
-                random_quat(&mut rng)
-            };
-            let origin = DVec3::new(rng.uniform(-2.0, 2.0), 0.3, rng.uniform(-1.0, 1.0));
-            let walls = [square(1, origin, turn), square(10, origin, turn)];
+            let (origin, turn, walls) = random_squares(&mut rng);
             for shape in &shapes {
                 let Shape::Convex(p) = shape else {
                     unreachable!()
@@ -942,13 +952,7 @@ mod tests {
         let (mut compared, mut several) = (0, 0);
         let by_size = |g: &Geometry| -overlap(g).load;
         for _ in 0..200 {
-            let turn = if rng.next_f64() < 0.5 {
-                DQuat::IDENTITY
-            } else {
-                random_quat(&mut rng)
-            };
-            let origin = DVec3::new(rng.uniform(-2.0, 2.0), 0.3, rng.uniform(-1.0, 1.0));
-            let walls = [square(1, origin, turn), square(10, origin, turn)];
+            let (origin, turn, walls) = random_squares(&mut rng);
             for shape in &shapes {
                 let Shape::NonConvex(p) = shape else {
                     unreachable!()
