@@ -4,10 +4,10 @@
 # docs/screw-conveyor.md comes from this script.
 #   scripts/screw_conveyor_sweep.sh [RPM ...]        (default: 120 180 240)
 # THREADS=n sets the worker threads of each run (default: the scene's), e.g. to run two sweeps
-# side by side on two cores.
+# side by side on two cores; TABLE_ONLY=1 only tabulates runs already in the output folder.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet
+[ -n "${TABLE_ONLY:-}" ] || cargo build --release --quiet
 speeds=("$@")
 [ ${#speeds[@]} -eq 0 ] && speeds=(120 180 240)
 out=${OUT:-output/screw_conveyor_sweep}
@@ -15,14 +15,16 @@ mkdir -p "$out"
 # Geometry and material of the example (keep in step with examples/screw_conveyor.toml).
 shaft=0.012; flight=0.04; pitch=0.06; density=2600
 box_length=0.06; box_side=0.084       # the packing_region round the conveying section
-from=1.5                              # averages over [from, end]: after the first cubes arrive
+from=1.7                              # averages over [from, end]: once the outflow is steady
 echo "| rpm | measured flow [kg/s] | fill (solid fraction of the swept annulus) | volumetric estimate [kg/s] | measured / estimate | drive torque [N m] | drive power [W] |"
 echo "| --- | --- | --- | --- | --- | --- | --- |"
 for rpm in "${speeds[@]}"; do
   scene="$out/screw_conveyor_$rpm.toml"
   sed "s/rpm = 120.0/rpm = $rpm/" examples/screw_conveyor.toml > "$scene"
-  ./target/release/polydem run "$scene" --out "$out/run_$rpm" ${THREADS:+--threads "$THREADS"} \
-    > "$out/run_$rpm.log" 2>&1
+  if [ -z "${TABLE_ONLY:-}" ]; then
+    ./target/release/polydem run "$scene" --out "$out/run_$rpm" ${THREADS:+--threads "$THREADS"} \
+      > "$out/run_$rpm.log" 2>&1
+  fi
   # The screw is wall 0; the bodies' torque on it about the axis (tx, the axis being −x) is
   # what the drive must overcome.
   awk -F, -v from="$from" -v rpm="$rpm" -v shaft="$shaft" -v flight="$flight" -v pitch="$pitch" \
