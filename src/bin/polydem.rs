@@ -110,11 +110,13 @@ fn describe(scene: &Path, p: &Prepared) {
     let w = &p.world;
     let steps = polydem::run::total_steps(p);
     println!("scene        {}", scene.display());
+    let moving = w.mesh_walls.iter().filter(|m| !m.motion.is_fixed()).count();
     println!(
-        "bodies       {} ({} materials, {} plane walls)",
+        "bodies       {} ({} materials, {} plane walls, {} mesh walls of which {moving} move)",
         w.bodies.len(),
         w.materials.len(),
-        w.planes.len()
+        w.planes.len(),
+        w.mesh_walls.len()
     );
     let how = if p.automatic_time_step {
         "auto".to_string()
