@@ -497,14 +497,9 @@ impl World {
             .for_each_init(
                 || {
                     let convex = (ConvexMeshScratch::default(), Vec::new());
-                    (
-                        MeshScratch::default(),
-                        Vec::new(),
-                        convex,
-                        RegionScratch::new(),
-                    )
+                    (MeshScratch::default(), Vec::new(), convex)
                 },
-                |(scratch, out, (convex_scratch, convex_out), regions), (i, slots)| {
+                |(scratch, out, (convex_scratch, convex_out)), (i, slots)| {
                     let shape = &shapes[bodies.shape[i] as usize];
                     let sphere = match shape {
                         Shape::Sphere(sphere) => sphere,
@@ -531,7 +526,6 @@ impl World {
                                         q,
                                         wall,
                                         convex_scratch,
-                                        regions,
                                         convex_out,
                                     ),
                                     Shape::Sphere(_) => unreachable!("spheres are below"),

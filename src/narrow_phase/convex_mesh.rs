@@ -118,6 +118,8 @@ pub struct ConvexMeshScratch {
     points: Vec<(u32, f64)>,
     /// Vertex law: (vertex, depth, plane it is behind) of a region.
     springs: Vec<(u32, f64, Plane)>,
+    /// Grouping a non-convex body's springs into connected regions.
+    regions: RegionScratch,
 }
 
 /// A triangle that may press on the body: the body's centre is in front of its plane and part
@@ -198,7 +200,7 @@ pub fn convex_mesh_contacts(
     scratch: &mut ConvexMeshScratch,
     out: &mut Vec<Geometry>,
 ) {
-    pressed_contacts(Pressed::Convex(p), x, q, wall, law, scratch, None, out);
+    pressed_contacts(Pressed::Convex(p), x, q, wall, law, scratch, out);
 }
 
 /// The contacts of a non-convex (mesh) body with a mesh wall, into `out` (cleared first): the
@@ -212,7 +214,6 @@ pub fn nonconvex_mesh_contacts(
     q: DQuat,
     wall: &MeshWall,
     scratch: &mut ConvexMeshScratch,
-    regions: &mut RegionScratch,
     out: &mut Vec<Geometry>,
 ) {
     pressed_contacts(
@@ -222,7 +223,6 @@ pub fn nonconvex_mesh_contacts(
         wall,
         PolyhedralLaw::Vertex,
         scratch,
-        Some(regions),
         out,
     );
 }
@@ -235,7 +235,6 @@ enum Pressed<'a> {
     Mesh(&'a NonConvexPolyhedron),
 }
 
-#[allow(clippy::too_many_arguments)]
 fn pressed_contacts(
     body: Pressed,
     x: DVec3,
@@ -243,7 +242,6 @@ fn pressed_contacts(
     wall: &MeshWall,
     law: PolyhedralLaw,
     scratch: &mut ConvexMeshScratch,
-    mut regions: Option<&mut RegionScratch>,
     out: &mut Vec<Geometry>,
 ) {
     out.clear();
@@ -262,6 +260,7 @@ fn pressed_contacts(
         pieces,
         points,
         springs: spring_list,
+        regions,
     } = scratch;
     let (radius, body_vertices, faces) = match body {
         Pressed::Convex(p) => (p.bounding_radius(), p.vertices(), p.faces()),
@@ -567,12 +566,12 @@ fn pressed_contacts(
                 // Once per vertex: the first triangle's (in mesh order) of those it lies in.
                 spring_list.sort_by_key(|s| s.0);
                 spring_list.dedup_by_key(|s| s.0);
-                match (body, regions.as_deref_mut()) {
-                    (Pressed::Mesh(shape), Some(scratch)) => {
-                        mesh_wall_regions(shape, rotation, x, spring_list, scratch, out);
+                match body {
+                    Pressed::Mesh(shape) => {
+                        mesh_wall_regions(shape, rotation, x, spring_list, regions, out);
                         None
                     }
-                    _ => springs(
+                    Pressed::Convex(_) => springs(
                         spring_list
                             .iter()
                             .map(|&(v, depth, f)| (x + vertices[v as usize], depth, f.normal)),
@@ -989,15 +988,7 @@ mod tests {
                 reference.truncate(MESH_REGIONS);
                 several += usize::from(reference.len() > 1);
                 for wall in &walls {
-                    nonconvex_mesh_contacts(
-                        p,
-                        x,
-                        orientation,
-                        wall,
-                        &mut scratch,
-                        &mut regions,
-                        &mut out,
-                    );
+                    nonconvex_mesh_contacts(p, x, orientation, wall, &mut scratch, &mut out);
                     let what = format!("{} triangles", wall.triangles().len());
                     assert_eq!(out.len(), reference.len(), "{what}: {out:?}");
                     for (g, r) in out.iter().zip(&reference) {

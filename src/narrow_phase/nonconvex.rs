@@ -1152,40 +1152,32 @@ pub fn mesh_wall_regions(
     }
     edges.sort_unstable();
     edges.dedup();
-    let find = |inside: &[(u32, u32)], v: u32| {
-        inside
-            .binary_search_by_key(&v, |&(u, _)| u)
-            .ok()
-            .map(|k| k as u32)
-    };
+    // Index in `springs` (and `inside_a`) of a vertex behind the wall.
+    let spring_of = |inside: &[(u32, u32)], v: u32| inside.binary_search_by_key(&v, |&(u, _)| u);
     for &e in &edges {
         let [v0, v1] = surface.edges()[e as usize];
-        match (find(&scratch.inside_a, v0), find(&scratch.inside_a, v1)) {
-            (Some(i), Some(j)) => {
-                let (i, j) = (
-                    scratch.inside_a[i as usize].1,
-                    scratch.inside_a[j as usize].1,
-                );
+        let (inside, outside, k) = match (
+            spring_of(&scratch.inside_a, v0),
+            spring_of(&scratch.inside_a, v1),
+        ) {
+            (Ok(i), Ok(j)) => {
+                let (i, j) = (scratch.inside_a[i].1, scratch.inside_a[j].1);
                 scratch.union(i, j);
+                continue;
             }
-            (Some(k), None) | (None, Some(k)) => {
-                let (inside, outside) = if find(&scratch.inside_a, v0).is_some() {
-                    (v0, v1)
-                } else {
-                    (v1, v0)
-                };
-                let (_, depth, face) = springs[k as usize];
-                let (p, q) = (position(inside), position(outside));
-                let beyond = -face.distance(q);
-                // Only an edge that comes out in front of the face crosses it.
-                if beyond < 0.0 {
-                    let x = p + (q - p) * (depth / (depth - beyond));
-                    let c = scratch.push_point(Point::mark(x));
-                    let i = scratch.inside_a[k as usize].1;
-                    scratch.union(i, c);
-                }
-            }
-            (None, None) => {}
+            (Ok(k), Err(_)) => (v0, v1, k),
+            (Err(_), Ok(k)) => (v1, v0, k),
+            (Err(_), Err(_)) => continue,
+        };
+        let (_, depth, face) = springs[k];
+        let (p, q) = (position(inside), position(outside));
+        let beyond = -face.distance(q);
+        // Only an edge that comes out in front of the face crosses it.
+        if beyond < 0.0 {
+            let x = p + (q - p) * (depth / (depth - beyond));
+            let c = scratch.push_point(Point::mark(x));
+            let i = scratch.inside_a[k].1;
+            scratch.union(i, c);
         }
     }
     scratch.edges = edges;

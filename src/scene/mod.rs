@@ -669,7 +669,6 @@ impl Scene {
                             b.orientation,
                             wall,
                             &mut Default::default(),
-                            &mut Default::default(),
                             &mut found,
                         );
                         found
