@@ -2,13 +2,15 @@
 //! wall is triangulated: resting and sliding on a flat wall of 2 or of 200 triangles, and rolling
 //! across its edges and vertices without a force spike.
 
+mod common;
+
 use polydem::body::BodyInit;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
-use polydem::wall::{generators, Plane};
-use polydem::{World, WorldConfig};
+use polydem::World;
+
+use common::Floor;
 
 const RADIUS: f64 = 0.005;
 const MU: f64 = 0.3;
@@ -25,45 +27,12 @@ fn world(cells: usize, velocity: DVec3) -> World {
         friction: MU,
         rolling_friction: 0.0,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    let planes = if cells == 0 {
-        vec![Plane {
-            point: DVec3::ZERO,
-            normal: DVec3::Z,
-            material: 0,
-        }]
+    let floor = if cells == 0 {
+        Floor::Plane
     } else {
-        Vec::new()
+        Floor::Mesh(cells)
     };
-    let mut w = World::new(WorldConfig {
-        time_step: 2e-6,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
-    if cells > 0 {
-        // A 0.2 m square centred on the origin; an odd offset keeps the sphere crossing edges and
-        // vertices at all angles rather than running along one edge.
-        let floor = generators::rectangle(
-            DVec3::new(-0.1, -0.1037, 0.0),
-            DVec3::new(0.2, 0.0, 0.0),
-            DVec3::new(0.0, 0.2, 0.0),
-            cells,
-            cells,
-        )
-        .unwrap();
-        w.mesh_walls.push(floor.into_wall(0).unwrap());
-    }
+    let mut w = common::world_on_floor(material, floor, 2e-6);
     w.add_body(BodyInit {
         shape: Shape::Sphere(Sphere::new(RADIUS)),
         material: 0,

@@ -7,14 +7,13 @@
 mod common;
 
 use polydem::body::BodyInit;
-use polydem::contact_law::{NormalLaw, PolyhedralLaw};
-use polydem::material::{Material, PairTable};
+use polydem::contact_law::PolyhedralLaw;
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::rng::SplitMix64;
 use polydem::scene::Scene;
 use polydem::shape::{generators, Shape};
-use polydem::wall::{generators as walls, Plane};
-use polydem::{World, WorldConfig};
+use polydem::World;
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
@@ -27,13 +26,7 @@ const POISSON: f64 = 0.25;
 const MU: f64 = 0.3;
 const LAWS: [PolyhedralLaw; 2] = [PolyhedralLaw::Volume, PolyhedralLaw::Vertex];
 
-/// The floor: an analytic plane, or a 0.2 m square mesh of 2 × cells² triangles (offset so that
-/// the cube crosses edges and vertices at all angles).
-#[derive(Clone, Copy, Debug)]
-enum Floor {
-    Plane,
-    Mesh(usize),
-}
+use common::Floor;
 
 const FLOORS: [Floor; 3] = [Floor::Plane, Floor::Mesh(1), Floor::Mesh(10)];
 
@@ -70,43 +63,8 @@ fn world(
         friction: MU,
         rolling_friction: 0.0,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    let planes = match floor {
-        Floor::Plane => vec![Plane {
-            point: DVec3::ZERO,
-            normal: DVec3::Z,
-            material: 0,
-        }],
-        Floor::Mesh(_) => Vec::new(),
-    };
-    let mut w = World::new(WorldConfig {
-        time_step: contact_duration() / 50.0,
-        gravity: DVec3::new(0.0, 0.0, -G),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
+    let mut w = common::world_on_floor(material, floor, contact_duration() / 50.0);
     w.polyhedral_law = law;
-    if let Floor::Mesh(cells) = floor {
-        let mesh = walls::rectangle(
-            DVec3::new(-0.1, -0.1037, 0.0),
-            DVec3::new(0.2, 0.0, 0.0),
-            DVec3::new(0.0, 0.2, 0.0),
-            cells,
-            cells,
-        )
-        .unwrap();
-        w.mesh_walls.push(mesh.into_wall(0).unwrap());
-    }
     let (cube, _) = generators::cuboid(EDGE, EDGE, EDGE).unwrap();
     w.add_body(BodyInit {
         shape: Shape::Convex(Arc::new(cube)),

@@ -4,25 +4,17 @@
 mod common;
 
 use polydem::body::BodyInit;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::rng::SplitMix64;
 use polydem::scene::Scene;
 use polydem::shape::nonconvex_generators::jack;
 use polydem::shape::Shape;
-use polydem::wall::{generators as walls, Plane};
-use polydem::{World, WorldConfig};
+use polydem::World;
 use std::path::Path;
 use std::sync::Arc;
 
-/// The floor: an analytic plane, or a 0.2 m square mesh of 2 × cells² triangles (offset so that
-/// the jack's arms cross edges and vertices at all angles).
-#[derive(Clone, Copy, Debug)]
-enum Floor {
-    Plane,
-    Mesh(usize),
-}
+use common::Floor;
 
 /// A 20 mm jack (4 mm bars) dropped tilted from 1 cm onto the floor, left to bounce and settle.
 fn drop_a_jack(floor: Floor) -> World {
@@ -35,42 +27,7 @@ fn drop_a_jack(floor: Floor) -> World {
         friction: 0.4,
         rolling_friction: 0.0,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    let planes = match floor {
-        Floor::Plane => vec![Plane {
-            point: DVec3::ZERO,
-            normal: DVec3::Z,
-            material: 0,
-        }],
-        Floor::Mesh(_) => Vec::new(),
-    };
-    let mut w = World::new(WorldConfig {
-        time_step: 2.0e-6,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
-    if let Floor::Mesh(cells) = floor {
-        let mesh = walls::rectangle(
-            DVec3::new(-0.1, -0.1037, 0.0),
-            DVec3::new(0.2, 0.0, 0.0),
-            DVec3::new(0.0, 0.2, 0.0),
-            cells,
-            cells,
-        )
-        .unwrap();
-        w.mesh_walls.push(mesh.into_wall(0).unwrap());
-    }
+    let mut w = common::world_on_floor(material, floor, 2.0e-6);
     let (shape, _) = jack(0.02, 0.004).unwrap().build(false).unwrap();
     w.add_body(BodyInit {
         shape: Shape::NonConvex(Arc::new(shape)),

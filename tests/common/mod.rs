@@ -1,9 +1,15 @@
 //! Helpers shared by the integration tests.
 
+// Each test file compiles this module on its own and uses only some of it.
+#![allow(dead_code)]
+
+use polydem::contact_law::NormalLaw;
+use polydem::material::{Material, PairTable};
 use polydem::math::DVec3;
 use polydem::rng::SplitMix64;
 use polydem::shape::Shape;
-use polydem::World;
+use polydem::wall::{generators, Plane};
+use polydem::{World, WorldConfig};
 
 /// Kicks every body to a random velocity of `speed` (range, m/s) in a random direction and a
 /// random spin of up to `spin` rad/s about a random axis.
@@ -42,4 +48,55 @@ pub fn deepest_outside_box(w: &World, size: f64, what: &str) -> f64 {
         }
     }
     deepest
+}
+
+/// The floor z = 0 of the floor tests: an analytic plane, or a 0.2 m square mesh of
+/// 2 × cells² triangles (offset so that bodies cross its edges and vertices at all angles rather
+/// than running along one edge).
+#[derive(Clone, Copy, Debug)]
+pub enum Floor {
+    Plane,
+    Mesh(usize),
+}
+
+/// A one-thread world under gravity −9.81 z with one material (Hertz, k_t/k_n = 2/7) and the
+/// floor, made of that material; no bodies yet.
+pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World {
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        NormalLaw::Hertz,
+        2.0 / 7.0,
+        &[],
+    );
+    let planes = match floor {
+        Floor::Plane => vec![Plane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            material: 0,
+        }],
+        Floor::Mesh(_) => Vec::new(),
+    };
+    let mut w = World::new(WorldConfig {
+        time_step,
+        gravity: DVec3::new(0.0, 0.0, -9.81),
+        materials: vec![material],
+        pair_laws: laws,
+        planes,
+        broad_phase: Default::default(),
+        skin: None,
+        threads: 1,
+    })
+    .unwrap();
+    if let Floor::Mesh(cells) = floor {
+        let mesh = generators::rectangle(
+            DVec3::new(-0.1, -0.1037, 0.0),
+            DVec3::new(0.2, 0.0, 0.0),
+            DVec3::new(0.0, 0.2, 0.0),
+            cells,
+            cells,
+        )
+        .unwrap();
+        w.mesh_walls.push(mesh.into_wall(0).unwrap());
+    }
+    w
 }
