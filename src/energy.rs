@@ -35,8 +35,8 @@ impl EnergyReport {
             dissipated: world.dissipated,
             removed: world.energy_removed,
             inserted: world.energy_inserted,
-            wall_work: world.wall_work,
-            contacts: world.contacts.len() + world.plane_contacts.len() + world.mesh_contacts.len(),
+            wall_work: world.wall_loads().work,
+            contacts: world.contacts().len(),
             ..Self::default()
         };
         for i in 0..b.len() {
@@ -48,13 +48,7 @@ impl EnergyReport {
             );
             report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
         }
-        for c in world
-            .contacts
-            .contacts
-            .iter()
-            .chain(&world.plane_contacts.contacts)
-            .chain(&world.mesh_contacts.contacts)
-        {
+        for c in world.contacts().iter() {
             report.elastic += c.response.elastic_energy;
         }
         report

@@ -21,6 +21,7 @@ pub mod rng;
 pub mod run;
 pub mod scene;
 pub mod shape;
+pub mod step;
 pub mod timestep;
 pub mod wall;
 pub mod world;

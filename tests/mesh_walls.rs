@@ -45,14 +45,13 @@ fn world(cells: usize, velocity: DVec3) -> World {
 }
 
 fn wall_contact_count(w: &World) -> usize {
-    w.plane_contacts.len() + w.mesh_contacts.len()
+    w.contacts().with_planes().count() + w.contacts().with_mesh_walls().count()
 }
 
 fn normal_force(w: &World) -> f64 {
-    w.plane_contacts
-        .contacts
+    w.contacts()
         .iter()
-        .chain(&w.mesh_contacts.contacts)
+        .filter(|c| c.key.partner.is_wall())
         .map(|c| c.response.normal_force)
         .sum()
 }
@@ -155,7 +154,7 @@ velocity = [2.0, -1.5, 1.0]
     let mut wall_hits = 0;
     for _ in 0..100 {
         w.run_steps(steps / 100);
-        wall_hits += w.mesh_contacts.len();
+        wall_hits += w.contacts().with_mesh_walls().count();
         for x in &w.bodies.position {
             assert!(
                 x.cmpgt(DVec3::ZERO).all() && x.cmplt(DVec3::splat(0.05)).all(),

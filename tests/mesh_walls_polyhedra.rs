@@ -78,7 +78,7 @@ fn world(
 }
 
 fn wall_contacts(w: &World) -> usize {
-    w.plane_contacts.len() + w.mesh_contacts.len()
+    w.contacts().with_planes().count() + w.contacts().with_mesh_walls().count()
 }
 
 /// Velocity and angular velocity just before the first contact and just after it ends.
@@ -332,7 +332,7 @@ seed = 2
             common::kick(w, &mut rng, (1.0, 4.0), 400.0);
             for _ in 0..100 {
                 w.step();
-                wall_contacts += w.mesh_contacts.len();
+                wall_contacts += w.contacts().with_mesh_walls().count();
             }
             deepest = deepest.max(common::deepest_outside_box(w, SIZE, law));
         }
@@ -391,7 +391,7 @@ velocity = [0.4, -0.3, -1.0]
             .build()
             .unwrap();
         p.world.run_steps(6000);
-        let contacts = p.world.mesh_contacts.len();
+        let contacts = p.world.contacts().with_mesh_walls().count();
         (
             p.world.bodies.position.clone(),
             p.world.bodies.orientation.clone(),

@@ -1,6 +1,7 @@
 //! Non-convex particles in whole scenes: contacts in several regions at once, resting poses, and
 //! the two descriptions of one body (mesh with the vertex law, convex parts with the volume law).
 
+use polydem::contact::Partner;
 use polydem::io::output::{OutputOptions, RunOutput};
 use polydem::math::{DQuat, DVec3};
 use polydem::scene::{Prepared, Scene};
@@ -83,16 +84,15 @@ rotation = [{rx}, {ry}, {rz}]
     let w = &mut p.world;
     w.run_steps((0.6 / w.time_step) as u64);
     let pair: Vec<_> = w
-        .contacts
-        .contacts
+        .contacts()
         .iter()
-        .filter(|c| (c.a, c.b) == (0, 1))
+        .filter(|c| (c.key.a, c.key.partner) == (0, Partner::Body(1)))
         .collect();
     let weight = w.bodies.mass[1] * 9.81;
     for c in &pair {
         println!(
             "slot {} at {:.5?}: normal {:.3?}, normal force {:.4e} N",
-            c.slot,
+            c.key.region,
             c.geometry.point.to_array(),
             c.geometry.normal.to_array(),
             c.response.normal_force
@@ -114,11 +114,11 @@ rotation = [{rx}, {ry}, {rz}]
     assert!((f0 / f1 - 1.0).abs() < 0.01, "{f0} vs {f1}");
     // Each region keeps its slot, and with it its friction spring (part of the weight hangs on
     // friction), step after step.
-    let sides: Vec<(u16, f64, DVec3)> = pair
+    let sides: Vec<(u8, f64, DVec3)> = pair
         .iter()
         .map(|c| {
             (
-                c.slot,
+                c.key.region,
                 c.geometry.point.y.signum(),
                 c.history.tangential_spring,
             )
@@ -131,15 +131,14 @@ rotation = [{rx}, {ry}, {rz}]
         .run_steps(((0.6 + 0.05) / later.world.time_step) as u64);
     for c in later
         .world
-        .contacts
-        .contacts
+        .contacts()
         .iter()
-        .filter(|c| (c.a, c.b) == (0, 1))
+        .filter(|c| (c.key.a, c.key.partner) == (0, Partner::Body(1)))
     {
         let (_, side, spring) = sides
             .iter()
             .copied()
-            .find(|s| s.0 == c.slot)
+            .find(|s| s.0 == c.key.region)
             .expect("the same slots");
         assert_eq!(side, c.geometry.point.y.signum());
         assert!((c.history.tangential_spring - spring).length() < 1e-3 * spring.length());
@@ -164,10 +163,10 @@ rotation = [{rx}, {ry}, {rz}]
     let header = String::from_utf8_lossy(&vtp[..vtp.len().min(4000)]);
     let lines = format!(
         "NumberOfLines=\"{}\"",
-        w.contacts.len() + w.plane_contacts.len()
+        w.contacts().between_bodies().count() + w.contacts().with_planes().count()
     );
     assert!(header.contains(&lines), "{header}");
-    assert_eq!(w.contacts.len(), 2);
+    assert_eq!(w.contacts().between_bodies().count(), 2);
 }
 
 /// An L-shaped block dropped tilted onto the floor tumbles and comes to rest in a statically
@@ -457,7 +456,7 @@ rotation = {rotation:?}
         while w.time < 0.25 {
             w.run_steps(1);
             let z = w.bodies.position[0].z - 0.003;
-            if !w.plane_contacts.is_empty() {
+            if w.contacts().with_planes().next().is_some() {
                 touched = true;
             } else if touched {
                 apex = apex.max(z);
@@ -575,13 +574,13 @@ seed = 7
             one.energy().total().to_bits(),
             two.energy().total().to_bits()
         );
-        regional = regional.max(one.contacts.contacts.iter().filter(|c| c.slot > 0).count());
-        most = most.max(one.contacts.len());
+        regional = regional.max(one.contacts().iter().filter(|c| c.key.region > 0).count());
+        most = most.max(one.contacts().between_bodies().count());
     }
     println!(
         "t = {:.3} s: {} contacts, at most {most} between bodies, {regional} in slots > 0",
         one.time,
-        one.contacts.len() + one.plane_contacts.len()
+        one.contacts().between_bodies().count() + one.contacts().with_planes().count()
     );
     // The comparison means something only if the bodies met each other on the way.
     assert!(most > 5 && regional > 0, "{most}, {regional}");

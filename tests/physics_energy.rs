@@ -7,6 +7,7 @@
 //!     still be constant.
 
 use polydem::body::BodyInit;
+use polydem::contact::Partner;
 use polydem::contact_law::NormalLaw;
 use polydem::material::{Material, PairTable};
 use polydem::math::{DQuat, DVec3};
@@ -118,16 +119,13 @@ fn fill(
 
 /// Every contact pair present now (plane contacts as (body, u32::MAX − plane)).
 fn contact_pairs(w: &World) -> BTreeSet<(u32, u32)> {
-    w.contacts
-        .contacts
+    w.contacts()
         .iter()
-        .map(|c| (c.a, c.b))
-        .chain(
-            w.plane_contacts
-                .contacts
-                .iter()
-                .map(|c| (c.a, u32::MAX - c.b)),
-        )
+        .map(|c| match c.key.partner {
+            Partner::Body(b) => (c.key.a, b),
+            Partner::Plane(p) => (c.key.a, u32::MAX - p),
+            Partner::Mesh(_) => unreachable!("no mesh walls here"),
+        })
         .collect()
 }
 

@@ -69,10 +69,8 @@ fn hertz(m_star: f64, r_star: f64, e_star: f64, v: f64) -> (f64, f64, f64) {
 /// Steps one at a time (the contact lasts a few hundred steps at most).
 fn measure(w: &mut World, overlap: impl Fn(&World) -> f64) -> (f64, f64, f64) {
     let contact_force = |w: &World| {
-        w.contacts
-            .contacts
+        w.contacts()
             .iter()
-            .chain(&w.plane_contacts.contacts)
             .map(|c| c.response.normal_force)
             .sum::<f64>()
     };
@@ -82,7 +80,8 @@ fn measure(w: &mut World, overlap: impl Fn(&World) -> f64) -> (f64, f64, f64) {
     for _ in 0..1_000_000 {
         w.run_steps(1);
         let d = overlap(w);
-        let in_contact = w.contacts.len() + w.plane_contacts.len() > 0;
+        let in_contact =
+            w.contacts().between_bodies().count() + w.contacts().with_planes().count() > 0;
         assert_eq!(
             in_contact,
             d > 0.0,

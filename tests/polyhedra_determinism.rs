@@ -140,11 +140,12 @@ fn rocks_and_cubes_are_bit_identical_for_any_thread_count() {
             state(&one) == state(&two),
             "1 and 2 threads differ after {done} steps"
         );
-        most_contacts = most_contacts.max(one.contacts.len() + one.plane_contacts.len());
+        most_contacts = most_contacts
+            .max(one.contacts().between_bodies().count() + one.contacts().with_planes().count());
     }
     println!(
         "{steps} steps of {dt:.3e} s, up to {most_contacts} contacts, {} at the end: bit-identical",
-        one.contacts.len() + one.plane_contacts.len()
+        one.contacts().between_bodies().count() + one.contacts().with_planes().count()
     );
     assert!(
         most_contacts >= 40,

@@ -96,7 +96,7 @@ velocity = [0.0, 0.0, -{v0:e}]
     let mut last_free = w.bodies.velocity[0].z;
     for _ in 0..(10.0 * steps_per_contact) as usize {
         w.step();
-        let touching = !w.plane_contacts.is_empty();
+        let touching = w.contacts().with_planes().next().is_some();
         match (touching, before) {
             (true, None) => before = Some(last_free),
             (false, Some(v_before)) => {

@@ -198,15 +198,15 @@ fn cubes_come_to_rest_and_stay() {
             }
             checked += 1;
         };
-    for c in &w.plane_contacts.contacts {
+    for c in w.contacts().with_planes() {
         let ov = c.geometry.volume.expect("a volume contact");
         // The single cube and each lower cube: one weight or two.
-        let load = if c.a == 0 { weight } else { 2.0 * weight };
+        let load = if c.key.a == 0 { weight } else { 2.0 * weight };
         // A cube face on the floor: the full face area.
         let area = EDGE * EDGE;
         assert!((ov.area / area - 1.0).abs() < 1e-9, "area {}", ov.area);
         check(
-            &format!("cube {} on the floor", c.a),
+            &format!("cube {} on the floor", c.key.a),
             c.response.force,
             ov.volume,
             area,
@@ -215,10 +215,10 @@ fn cubes_come_to_rest_and_stay() {
             r_eq,
         );
     }
-    for c in &w.contacts.contacts {
+    for c in w.contacts().between_bodies() {
         let ov = c.geometry.volume.expect("a volume contact");
         // The shared face: the whole face for the aligned stack, less the offset strips.
-        let area = if c.a == 1 {
+        let area = if c.key.a == 1 {
             EDGE * EDGE
         } else {
             (EDGE - OFFSET[0]) * (EDGE - OFFSET[1])
@@ -229,7 +229,7 @@ fn cubes_come_to_rest_and_stay() {
             ov.area
         );
         check(
-            &format!("cube {} on cube {}", c.b, c.a),
+            &format!("cube {:?} on cube {}", c.key.partner, c.key.a),
             c.response.force,
             ov.volume,
             area,

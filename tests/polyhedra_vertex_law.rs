@@ -71,7 +71,7 @@ fn resting_cube_sinks_by_the_statics_of_four_springs() {
     // At rest the dashpots are idle: the springs alone hold the weight, to round-off; 1e-6
     // leaves room for the last of the settling.
     assert!((sunk / depth - 1.0).abs() < 1e-6, "sank {sunk} m");
-    let c = &w.plane_contacts.contacts[0];
+    let c = w.contacts().with_planes().next().unwrap();
     assert_eq!(c.geometry.volume.unwrap().points, 4);
 }
 
@@ -93,7 +93,7 @@ fn elastic_tilted_drop_keeps_its_energy() {
     let mut worst: f64 = 0.0;
     while w.time < 0.2 {
         w.run_steps(10);
-        if w.plane_contacts.is_empty() {
+        if w.contacts().with_planes().next().is_none() {
             // In flight: all the energy is kinetic and potential.
             if touched {
                 worst = worst.max((energy(w) / e0 - 1.0).abs());

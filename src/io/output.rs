@@ -235,9 +235,15 @@ fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
     let walls = world.planes.len() + world.mesh_walls.len();
     (0..walls)
         .map(|w| {
-            let j = world.wall_impulse.get(w).copied().unwrap_or(DVec3::ZERO);
+            let j = world
+                .wall_loads()
+                .impulse
+                .get(w)
+                .copied()
+                .unwrap_or(DVec3::ZERO);
             let h = world
-                .wall_angular_impulse
+                .wall_loads()
+                .angular_impulse
                 .get(w)
                 .copied()
                 .unwrap_or(DVec3::ZERO);
@@ -303,7 +309,7 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
 fn force_network(world: &World) -> ForceNetwork {
     let b = &world.bodies;
     let mut network = ForceNetwork::default();
-    let mut line = |points: &[DVec3], c: &crate::contact::Contact, wall: u32| {
+    let mut line = |points: &[DVec3], c: &crate::contact::ContactRef, wall: u32| {
         let first = network.points.len() as u32;
         network.points.extend_from_slice(points);
         network
@@ -313,22 +319,20 @@ fn force_network(world: &World) -> ForceNetwork {
         network.force.push(c.response.force);
         network.wall_contact.push(wall);
     };
-    for c in &world.contacts.contacts {
-        let (i, j) = (c.a as usize, c.b as usize);
-        let regional = |k: usize| world.shapes[b.shape[k] as usize].has_regions();
-        if regional(i) || regional(j) {
-            line(&[b.position[i], c.geometry.point, b.position[j]], c, 0);
-        } else {
-            line(&[b.position[i], b.position[j]], c, 0);
+    for c in world.contacts().iter() {
+        let i = c.key.a as usize;
+        match c.key.partner.body() {
+            Some(j) => {
+                let j = j as usize;
+                let regional = |k: usize| world.shapes[b.shape[k] as usize].has_regions();
+                if regional(i) || regional(j) {
+                    line(&[b.position[i], c.geometry.point, b.position[j]], &c, 0);
+                } else {
+                    line(&[b.position[i], b.position[j]], &c, 0);
+                }
+            }
+            None => line(&[b.position[i], c.geometry.point], &c, 1),
         }
-    }
-    for c in world
-        .plane_contacts
-        .contacts
-        .iter()
-        .chain(&world.mesh_contacts.contacts)
-    {
-        line(&[b.position[c.a as usize], c.geometry.point], c, 1);
     }
     network
 }

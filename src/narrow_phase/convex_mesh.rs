@@ -63,7 +63,7 @@
 //! contact: the sums of their pieces' volumes, loads Σ V_t n_t, section areas and potentials, at
 //! the centroid of the whole, with the moment of the loads about it as a couple (zero on a flat
 //! region). Faces at a sharper angle (a box's floor and side) are separate contacts. At most
-//! [`MESH_REGIONS`] contacts, the largest first.
+//! [`MAX_REGIONS`] contacts, the largest first.
 //!
 //! # Vertex law
 //!
@@ -76,11 +76,11 @@ use super::convex_convex::VolumeContact;
 use super::dispatch::{springs, volume_geometry};
 use super::nonconvex::{mesh_wall_regions, RegionScratch};
 use super::Geometry;
+use super::MAX_REGIONS;
 use crate::contact_law::PolyhedralLaw;
 use crate::math::{Aabb, DMat3, DQuat, DVec3};
 use crate::shape::{ConvexPolyhedron, NonConvexPolyhedron};
 use crate::wall::MeshWall;
-use crate::world::MESH_REGIONS;
 
 /// Triangles are searched in the body's box enlarged by this fraction of its bounding radius:
 /// the cells behind a concave fold widen with depth, so a cell can reach under the body from a
@@ -188,7 +188,7 @@ pub fn convex_mesh(
     out
 }
 
-/// As [`convex_mesh`], into `out` (cleared first): at most [`MESH_REGIONS`] contacts, in the
+/// As [`convex_mesh`], into `out` (cleared first): at most [`MAX_REGIONS`] contacts, in the
 /// form `body_plane` gives for `law`, the largest first (volume, or total depth of the vertex
 /// law's springs).
 pub fn convex_mesh_contacts(
@@ -207,7 +207,7 @@ pub fn convex_mesh_contacts(
 /// vertex law in the cells of the wall's triangles as for a convex body, each region of the wall
 /// split further into the connected groups of the body's vertices in it, as against a plane
 /// (`nonconvex::mesh_plane`: the arms of a jack lying on a floor are contacts of their own). At
-/// most [`MESH_REGIONS`] contacts, the largest first.
+/// most [`MAX_REGIONS`] contacts, the largest first.
 pub fn nonconvex_mesh_contacts(
     shape: &NonConvexPolyhedron,
     x: DVec3,
@@ -600,7 +600,7 @@ fn pressed_contacts(
             .then(a.normal.y.total_cmp(&b.normal.y))
             .then(a.normal.z.total_cmp(&b.normal.z))
     });
-    out.truncate(MESH_REGIONS);
+    out.truncate(MAX_REGIONS);
 }
 
 /// The plane of triangle `t`, relative to `origin` (from its first corner, so every caller gets
@@ -985,7 +985,7 @@ mod tests {
                     &mut reference,
                 );
                 reference.sort_by(|a, b| by_size(a).total_cmp(&by_size(b)));
-                reference.truncate(MESH_REGIONS);
+                reference.truncate(MAX_REGIONS);
                 several += usize::from(reference.len() > 1);
                 for wall in &walls {
                     nonconvex_mesh_contacts(p, x, orientation, wall, &mut scratch, &mut out);

@@ -415,6 +415,11 @@ impl MeshWall {
         self.grid.query(query, out);
     }
 
+    /// Whether some triangle's bounding box overlaps `query` (no triangle near: nothing to touch).
+    pub fn has_triangles_near(&self, query: &Aabb) -> bool {
+        self.grid.any(query)
+    }
+
     /// Identity map 0..n, so that a face feature can lend out a one-element slice.
     fn triangles_index(&self) -> &[u32] {
         &self.grid.identity
@@ -549,6 +554,23 @@ impl TriangleGrid {
         }
         out.sort_unstable();
         out.dedup();
+    }
+
+    /// Whether any triangle's box overlaps `b` (as [`TriangleGrid::query`] without the list).
+    fn any(&self, b: &Aabb) -> bool {
+        let Some((lo, hi)) = self.cell_range(b) else {
+            return false;
+        };
+        (lo[2]..=hi[2]).any(|k| {
+            (lo[1]..=hi[1]).any(|j| {
+                (lo[0]..=hi[0]).any(|i| {
+                    let c = (k * self.dims[1] + j) * self.dims[0] + i;
+                    self.items[self.start[c] as usize..self.start[c + 1] as usize]
+                        .iter()
+                        .any(|&t| self.boxes[t as usize].overlaps(b))
+                })
+            })
+        })
     }
 }
 

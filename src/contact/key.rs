@@ -1,0 +1,35 @@
+//! Which contact a contact is: the body, its partner and the region.
+
+/// What a body touches: another body, a plane wall or a mesh wall (by index in the world's lists).
+/// The order (bodies, then planes, then mesh walls) is the order of a body's contacts in the store.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Partner {
+    Body(u32),
+    Plane(u32),
+    Mesh(u32),
+}
+
+impl Partner {
+    /// The partner's index when it is a body.
+    pub fn body(self) -> Option<u32> {
+        match self {
+            Partner::Body(j) => Some(j),
+            _ => None,
+        }
+    }
+
+    pub fn is_wall(self) -> bool {
+        !matches!(self, Partner::Body(_))
+    }
+}
+
+/// The identity of one contact, stable while the contact lasts: body `a` (for two bodies the smaller
+/// index), its partner, and which of the pair's contact regions this is (0 for a pair that touches
+/// in one place). Keys sort by `(a, partner, region)`; the store keeps its contacts in that order,
+/// which is what makes every later loop run in a fixed order whatever the thread count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct ContactKey {
+    pub a: u32,
+    pub partner: Partner,
+    pub region: u8,
+}

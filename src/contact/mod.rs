@@ -1,0 +1,10 @@
+//! Contacts: who touches whom, the geometry of each contact this step, and the history it carries
+//! from step to step (see [`ContactStore`]).
+
+mod key;
+mod regions;
+mod store;
+
+pub use key::{ContactKey, Partner};
+pub use regions::{assign_regions, Assigned, MAX_REGIONS};
+pub use store::{Candidate, ContactRef, ContactStore};

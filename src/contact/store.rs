@@ -1,0 +1,456 @@
+//! The contact store: every contact of the world, with bodies, planes and mesh walls alike, under
+//! one key, with its geometry of this step and the history it carries from step to step.
+//!
+//! The store holds an entry for every *candidate* contact: a body and a partner close enough to
+//! touch before the neighbour search runs again (one entry, or [`MAX_REGIONS`] for a pair that can
+//! touch in several places). Entries keep their places between neighbour searches, so a step
+//! writes each entry's geometry and response in place, in parallel, with no per-step sorting or
+//! merging; a new neighbour list carries the history over by one merge of sorted keys
+//! ([`ContactStore::set_candidates`]). Per-body index lists make the force sums parallel and still
+//! bit-identical for any thread count: each body adds up its own contacts in store order.
+//!
+//! Persistent state (key, history) is kept apart from what a step recomputes (touching, geometry,
+//! response).
+
+use super::key::{ContactKey, Partner};
+use super::regions::{Assigned, MAX_REGIONS};
+use crate::contact_law::{History, Response};
+use crate::narrow_phase::Geometry;
+
+/// A body and a partner that may touch before the next neighbour search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Candidate {
+    pub a: u32,
+    pub partner: Partner,
+    /// The pair may touch in several places at once: it gets [`MAX_REGIONS`] entries.
+    pub regional: bool,
+}
+
+/// One contact as outside code sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactRef<'a> {
+    pub key: ContactKey,
+    pub geometry: &'a Geometry,
+    pub history: &'a History,
+    pub response: &'a Response,
+}
+
+const NO_GEOMETRY: Geometry = Geometry {
+    normal: crate::math::DVec3::ZERO,
+    point: crate::math::DVec3::ZERO,
+    overlap: 0.0,
+    volume: None,
+};
+
+#[derive(Clone, Debug, Default)]
+struct Persistent {
+    key: Vec<ContactKey>,
+    touching: Vec<bool>,
+    geometry: Vec<Geometry>,
+    history: Vec<History>,
+}
+
+impl Persistent {
+    fn clear(&mut self) {
+        self.key.clear();
+        self.touching.clear();
+        self.geometry.clear();
+        self.history.clear();
+    }
+
+    fn push(&mut self, key: ContactKey, touching: bool, geometry: Geometry, history: History) {
+        self.key.push(key);
+        self.touching.push(touching);
+        self.geometry.push(geometry);
+        self.history.push(history);
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct ContactStore {
+    /// Per entry, sorted by key: key, whether it touches this step, its geometry (valid while
+    /// touching; kept to match regions next step) and its history.
+    entries: Persistent,
+    /// Per entry: what the contact law gave this step (zero when not touching).
+    pub(crate) response: Vec<Response>,
+    /// First entry of each pair with [`MAX_REGIONS`] entries.
+    regional: Vec<u32>,
+    /// `own[i]..own[i + 1]`: the entries of body `i` as `a`.
+    own: Vec<u32>,
+    /// `incoming[incoming_first[i]..incoming_first[i + 1]]`: the entries whose partner is body `i`,
+    /// in store order.
+    incoming_first: Vec<u32>,
+    incoming: Vec<u32>,
+    /// Entries whose partner is a wall, in store order.
+    wall_entries: Vec<u32>,
+    /// The entries before the last [`ContactStore::set_candidates`] (kept to reuse their memory).
+    previous: Persistent,
+}
+
+impl ContactStore {
+    /// Makes `candidates` (sorted by `(a, partner)`, each once) the entries, carrying every
+    /// continuing entry's state over. Returns the energy the history springs of touching contacts
+    /// that are no longer candidates still held (none in a consistent neighbour search; booked as
+    /// dissipated by the caller).
+    pub fn set_candidates(&mut self, candidates: &[Candidate], bodies: usize) -> f64 {
+        debug_assert!(candidates
+            .windows(2)
+            .all(|w| (w[0].a, w[0].partner) < (w[1].a, w[1].partner)));
+        std::mem::swap(&mut self.entries, &mut self.previous);
+        self.entries.clear();
+        self.regional.clear();
+        let old = &self.previous;
+        let mut o = 0;
+        let mut lost = 0.0;
+        for c in candidates {
+            if c.regional {
+                self.regional.push(self.entries.key.len() as u32);
+            }
+            let regions = if c.regional { MAX_REGIONS as u8 } else { 1 };
+            for region in 0..regions {
+                let key = ContactKey {
+                    a: c.a,
+                    partner: c.partner,
+                    region,
+                };
+                while o < old.key.len() && old.key[o] < key {
+                    if old.touching[o] {
+                        lost += old.history[o].stored_energy();
+                    }
+                    o += 1;
+                }
+                if o < old.key.len() && old.key[o] == key {
+                    self.entries
+                        .push(key, old.touching[o], old.geometry[o], old.history[o]);
+                    o += 1;
+                } else {
+                    self.entries
+                        .push(key, false, NO_GEOMETRY, History::default());
+                }
+            }
+        }
+        for k in o..old.key.len() {
+            if old.touching[k] {
+                lost += old.history[k].stored_energy();
+            }
+        }
+        self.response.clear();
+        self.response
+            .resize(self.entries.key.len(), Response::default());
+        self.index(bodies);
+        lost
+    }
+
+    /// Builds the per-body index lists (counting sorts, linear in the entries).
+    fn index(&mut self, bodies: usize) {
+        let keys = &self.entries.key;
+        self.own.clear();
+        self.own.resize(bodies + 1, 0);
+        self.incoming_first.clear();
+        self.incoming_first.resize(bodies + 1, 0);
+        self.wall_entries.clear();
+        for (e, k) in keys.iter().enumerate() {
+            self.own[k.a as usize + 1] += 1;
+            match k.partner {
+                Partner::Body(j) => self.incoming_first[j as usize + 1] += 1,
+                _ => self.wall_entries.push(e as u32),
+            }
+        }
+        for i in 0..bodies {
+            self.own[i + 1] += self.own[i];
+            self.incoming_first[i + 1] += self.incoming_first[i];
+        }
+        self.incoming.clear();
+        self.incoming
+            .resize(self.incoming_first[bodies] as usize, 0);
+        let mut next: Vec<u32> = self.incoming_first[..bodies].to_vec();
+        for (e, k) in keys.iter().enumerate() {
+            if let Partner::Body(j) = k.partner {
+                let slot = &mut next[j as usize];
+                self.incoming[*slot as usize] = e as u32;
+                *slot += 1;
+            }
+        }
+    }
+
+    /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed
+    /// body) and drops those of removed bodies; the order, and so the sorting, is kept. Returns the
+    /// elastic energy the dropped contacts held. The per-body index lists are stale until the next
+    /// [`ContactStore::set_candidates`].
+    pub fn renumber(&mut self, new_index: &[u32]) -> f64 {
+        let mut lost = 0.0;
+        let mut kept = 0;
+        let e = &mut self.entries;
+        for k in 0..e.key.len() {
+            let key = e.key[k];
+            let a = new_index[key.a as usize];
+            let partner = match key.partner {
+                Partner::Body(j) => Partner::Body(new_index[j as usize]),
+                wall => wall,
+            };
+            if a == u32::MAX || partner == Partner::Body(u32::MAX) {
+                if e.touching[k] {
+                    lost += self.response[k].elastic_energy;
+                }
+                continue;
+            }
+            e.key[kept] = ContactKey { a, partner, ..key };
+            e.touching[kept] = e.touching[k];
+            e.geometry[kept] = e.geometry[k];
+            e.history[kept] = e.history[k];
+            self.response[kept] = self.response[k];
+            kept += 1;
+        }
+        e.key.truncate(kept);
+        e.touching.truncate(kept);
+        e.geometry.truncate(kept);
+        e.history.truncate(kept);
+        self.response.truncate(kept);
+        self.regional.clear();
+        self.own.clear();
+        self.incoming_first.clear();
+        self.incoming.clear();
+        self.wall_entries.clear();
+        lost
+    }
+
+    /// Number of entries (candidate contacts).
+    pub fn entries(&self) -> usize {
+        self.entries.key.len()
+    }
+
+    pub fn keys(&self) -> &[ContactKey] {
+        &self.entries.key
+    }
+
+    pub fn touching(&self) -> &[bool] {
+        &self.entries.touching
+    }
+
+    pub fn geometry(&self) -> &[Geometry] {
+        &self.entries.geometry
+    }
+
+    pub fn responses(&self) -> &[Response] {
+        &self.response
+    }
+
+    /// First entries of the pairs with [`MAX_REGIONS`] entries.
+    pub fn regional(&self) -> &[u32] {
+        &self.regional
+    }
+
+    /// Entries of body `i` as `a`.
+    pub fn own(&self, i: usize) -> std::ops::Range<usize> {
+        self.own[i] as usize..self.own[i + 1] as usize
+    }
+
+    /// Entries whose partner is body `i`.
+    pub fn incoming(&self, i: usize) -> &[u32] {
+        &self.incoming[self.incoming_first[i] as usize..self.incoming_first[i + 1] as usize]
+    }
+
+    /// Entries whose partner is a wall, in store order.
+    pub fn wall_entries(&self) -> &[u32] {
+        &self.wall_entries
+    }
+
+    /// Mutable access for the narrow phase: keys, touching flags and geometry of the entries.
+    pub(crate) fn detection_mut(&mut self) -> (&[ContactKey], &mut [bool], &mut [Geometry]) {
+        let e = &mut self.entries;
+        (&e.key, &mut e.touching, &mut e.geometry)
+    }
+
+    /// Mutable access for the contact laws: what they read and what they write.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn laws_mut(
+        &mut self,
+    ) -> (
+        &[ContactKey],
+        &[bool],
+        &[Geometry],
+        &mut [History],
+        &mut [Response],
+    ) {
+        let e = &mut self.entries;
+        (
+            &e.key,
+            &e.touching,
+            &e.geometry,
+            &mut e.history,
+            &mut self.response,
+        )
+    }
+
+    /// Sets what the pairs with several regions touch this step: `assigned[g]` for the pair whose
+    /// entries start at `regional()[g]`. Returns the energy the dropped histories held (see
+    /// [`ContactStore::set_region`]).
+    pub(crate) fn set_regions(&mut self, assigned: &[[Assigned; MAX_REGIONS]]) -> f64 {
+        let mut lost = 0.0;
+        for (g, assigned) in assigned.iter().enumerate() {
+            let first = self.regional[g] as usize;
+            for (k, a) in assigned.iter().enumerate() {
+                lost += self.set_region(first + k, a.geometry, a.fresh);
+            }
+        }
+        lost
+    }
+
+    /// Sets what entry `e` touches this step; a contact that ends, or whose slot a new contact
+    /// takes (`fresh`), drops its history. Returns the energy the dropped history held.
+    pub(crate) fn set_region(&mut self, e: usize, geometry: Option<Geometry>, fresh: bool) -> f64 {
+        let x = &mut self.entries;
+        let mut lost = 0.0;
+        if x.touching[e] && (fresh || geometry.is_none()) {
+            lost = x.history[e].stored_energy();
+            x.history[e] = History::default();
+        }
+        x.touching[e] = geometry.is_some();
+        if let Some(g) = geometry {
+            x.geometry[e] = g;
+        }
+        lost
+    }
+
+    /// The contacts that touch, in store order.
+    pub fn iter(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
+        let e = &self.entries;
+        (0..e.key.len())
+            .filter(|&k| e.touching[k])
+            .map(move |k| ContactRef {
+                key: e.key[k],
+                geometry: &e.geometry[k],
+                history: &e.history[k],
+                response: &self.response[k],
+            })
+    }
+
+    /// Contacts between two bodies.
+    pub fn between_bodies(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
+        self.iter()
+            .filter(|c| matches!(c.key.partner, Partner::Body(_)))
+    }
+
+    /// Contacts of bodies with plane walls.
+    pub fn with_planes(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
+        self.iter()
+            .filter(|c| matches!(c.key.partner, Partner::Plane(_)))
+    }
+
+    /// Contacts of bodies with mesh walls.
+    pub fn with_mesh_walls(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
+        self.iter()
+            .filter(|c| matches!(c.key.partner, Partner::Mesh(_)))
+    }
+
+    /// Number of contacts that touch.
+    pub fn len(&self) -> usize {
+        self.entries.touching.iter().filter(|&&t| t).count()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        !self.entries.touching.iter().any(|&t| t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::DVec3;
+
+    fn touching_at(z: f64) -> Geometry {
+        Geometry {
+            normal: DVec3::Z,
+            point: DVec3::new(0.0, 0.0, z),
+            overlap: 1e-3,
+            volume: None,
+        }
+    }
+
+    fn candidate(a: u32, partner: Partner) -> Candidate {
+        Candidate {
+            a,
+            partner,
+            regional: false,
+        }
+    }
+
+    fn touch(store: &mut ContactStore, a: u32, partner: Partner) -> usize {
+        let e = store
+            .keys()
+            .iter()
+            .position(|k| k.a == a && k.partner == partner)
+            .unwrap();
+        store.set_region(e, Some(touching_at(0.0)), false);
+        e
+    }
+
+    #[test]
+    fn history_survives_a_new_neighbour_list_while_the_contact_lasts() {
+        let mut store = ContactStore::default();
+        let first = [
+            candidate(0, Partner::Body(1)),
+            candidate(1, Partner::Body(2)),
+            candidate(1, Partner::Plane(0)),
+        ];
+        store.set_candidates(&first, 3);
+        let e = touch(&mut store, 1, Partner::Body(2));
+        store.laws_mut().3[e].tangential_spring = DVec3::X;
+        store.laws_mut().3[e].tangential_stiffness = 4.0;
+        // A new list: (0, 2) is new, (1, 2) continues, (0, 1) is gone.
+        let second = [
+            candidate(0, Partner::Body(2)),
+            candidate(1, Partner::Body(2)),
+            candidate(1, Partner::Plane(0)),
+        ];
+        assert_eq!(store.set_candidates(&second, 3), 0.0);
+        let history = |s: &ContactStore, k: usize| s.entries.history[k];
+        assert_eq!(history(&store, 0), History::default());
+        assert_eq!(history(&store, 1).tangential_spring, DVec3::X);
+        assert!(store.touching()[1]);
+        // A touching contact that drops out gives back the energy its springs held.
+        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3);
+        assert_eq!(lost, 0.5 * 4.0);
+    }
+
+    #[test]
+    fn index_lists_name_each_bodys_contacts() {
+        let mut store = ContactStore::default();
+        let list = [
+            candidate(0, Partner::Body(2)),
+            candidate(0, Partner::Plane(0)),
+            candidate(1, Partner::Body(2)),
+            Candidate {
+                a: 1,
+                partner: Partner::Mesh(0),
+                regional: true,
+            },
+        ];
+        store.set_candidates(&list, 3);
+        assert_eq!(store.entries(), 3 + MAX_REGIONS);
+        assert_eq!(store.own(0), 0..2);
+        assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
+        assert_eq!(store.own(2), 3 + MAX_REGIONS..3 + MAX_REGIONS);
+        assert_eq!(store.incoming(2), &[0, 2]);
+        assert!(store.incoming(0).is_empty());
+        assert_eq!(store.regional(), &[3]);
+        assert_eq!(store.wall_entries().len(), 1 + MAX_REGIONS);
+    }
+
+    #[test]
+    fn renumbering_drops_the_contacts_of_removed_bodies_and_keeps_order() {
+        let mut store = ContactStore::default();
+        let list = [
+            candidate(0, Partner::Body(1)),
+            candidate(0, Partner::Body(2)),
+            candidate(2, Partner::Plane(0)),
+        ];
+        store.set_candidates(&list, 3);
+        let e = touch(&mut store, 0, Partner::Body(1));
+        store.response[e].elastic_energy = 2.0;
+        let lost = store.renumber(&[0, u32::MAX, 1]);
+        assert_eq!(lost, 2.0);
+        let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();
+        assert_eq!(keys, vec![(0, Partner::Body(1)), (1, Partner::Plane(0))]);
+    }
+}

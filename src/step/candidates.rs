@@ -1,0 +1,197 @@
+//! Stage 1 of the contact pipeline: the candidate contacts, i.e. the bodies and partners (other
+//! bodies, planes, mesh walls) that are close enough to touch before the list is made again.
+//!
+//! The list is made with a skin: boxes enlarged by half the skin on each side. It stays valid until
+//! some body has moved more than half the skin, or a moving mesh wall has (Verlet 1967's neighbour
+//! list idea): until then no two bodies outside each other's enlarged boxes can touch, nor a body
+//! and a wall more than a skin apart. Body pairs come from the broad phase (the Linked Linear List
+//! by default).
+
+use crate::body::Bodies;
+use crate::broad_phase::{self, BroadPhase, Pair};
+use crate::contact::{Candidate, Partner};
+use crate::math::{Aabb, DVec3};
+use crate::shape::Shape;
+use crate::wall::{MeshWall, Plane, WallPose};
+use rayon::prelude::*;
+
+/// The neighbour search's state between steps.
+pub struct NeighbourSearch {
+    method: broad_phase::Method,
+    broad_phase: Box<dyn BroadPhase>,
+    /// The skin [m]: see [`crate::WorldConfig::skin`].
+    skin: f64,
+    /// Where the bodies were when the list was made.
+    reference_position: Vec<DVec3>,
+    /// Where the mesh walls were when the list was made.
+    reference_pose: Vec<WallPose>,
+    valid: bool,
+    boxes: Vec<Aabb>,
+    pairs: Vec<Pair>,
+    wall_candidates: Vec<(u32, Partner)>,
+    /// The candidates, sorted by `(a, partner)`.
+    list: Vec<Candidate>,
+    /// Times the list was made (for diagnostics and tests).
+    pub rebuilds: u64,
+}
+
+impl NeighbourSearch {
+    pub fn new(method: broad_phase::Method, skin: f64) -> Self {
+        Self {
+            method,
+            broad_phase: method.build(),
+            skin,
+            reference_position: Vec::new(),
+            reference_pose: Vec::new(),
+            valid: false,
+            boxes: Vec::new(),
+            pairs: Vec::new(),
+            wall_candidates: Vec::new(),
+            list: Vec::new(),
+            rebuilds: 0,
+        }
+    }
+
+    pub fn skin(&self) -> f64 {
+        self.skin
+    }
+
+    pub fn set_skin(&mut self, skin: f64) {
+        self.skin = skin;
+        self.valid = false;
+    }
+
+    /// Bodies were added or removed: indices changed, so the search starts afresh.
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+        self.broad_phase = self.method.build();
+    }
+
+    /// Makes the list again if it may have gone stale; returns the new list, or `None` when the
+    /// old one still holds.
+    pub fn update(
+        &mut self,
+        bodies: &Bodies,
+        shapes: &[Shape],
+        planes: &[Plane],
+        walls: &[MeshWall],
+    ) -> Option<&[Candidate]> {
+        let half_skin = 0.5 * self.skin;
+        if self.valid && !self.moved_too_far(bodies, walls, half_skin) {
+            return None;
+        }
+        self.boxes.clear();
+        self.boxes.extend(
+            bodies
+                .position
+                .iter()
+                .zip(&bodies.bounding_radius)
+                .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
+        );
+        self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
+        self.find_wall_candidates(bodies, planes, walls);
+        self.merge(bodies, shapes);
+        self.reference_position.clone_from(&bodies.position);
+        self.reference_pose.clear();
+        self.reference_pose.extend(walls.iter().map(MeshWall::pose));
+        self.valid = true;
+        self.rebuilds += 1;
+        Some(&self.list)
+    }
+
+    fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall], half_skin: f64) -> bool {
+        let limit = half_skin * half_skin;
+        let wall_moved = walls.iter().zip(&self.reference_pose).any(|(w, then)| {
+            !w.motion.keeps_place() && wall_displacement(w, then, &w.pose()) > half_skin
+        });
+        wall_moved
+            || bodies
+                .position
+                .par_iter()
+                .zip(self.reference_position.par_iter())
+                .any(|(x, x0)| (*x - *x0).length_squared() > limit)
+    }
+
+    /// Planes within half a skin of a body's bounding sphere (planes do not move), and mesh walls
+    /// with a triangle whose box comes within a skin of it (body and wall may each move half a
+    /// skin before the list is made again).
+    fn find_wall_candidates(&mut self, bodies: &Bodies, planes: &[Plane], walls: &[MeshWall]) {
+        let half_skin = 0.5 * self.skin;
+        let skin = self.skin;
+        self.wall_candidates.clear();
+        if planes.is_empty() && walls.is_empty() {
+            return;
+        }
+        self.wall_candidates.par_extend(
+            (0..bodies.len() as u32)
+                .into_par_iter()
+                .with_min_len(256)
+                .flat_map_iter(|i| {
+                    let x = bodies.position[i as usize];
+                    let r = bodies.bounding_radius[i as usize];
+                    let near_planes = planes
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, p)| (x - p.point).dot(p.normal) < r + half_skin)
+                        .map(move |(p, _)| (i, Partner::Plane(p as u32)));
+                    let near_walls = walls
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, w)| {
+                            let reach = Aabb::around_sphere(w.pose().to_reference(x), r + skin);
+                            w.bounds().overlaps(&reach) && w.has_triangles_near(&reach)
+                        })
+                        .map(move |(w, _)| (i, Partner::Mesh(w as u32)));
+                    near_planes.chain(near_walls)
+                }),
+        );
+    }
+
+    /// One sorted list from the body pairs (sorted by the broad phase) and the wall candidates
+    /// (sorted by body).
+    fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) {
+        let regional = |i: u32| shapes[bodies.shape[i as usize] as usize].has_regions();
+        self.list.clear();
+        let mut walls = self.wall_candidates.iter().peekable();
+        for &(i, j) in &self.pairs {
+            while let Some(&&(a, partner)) = walls.peek().filter(|(a, _)| *a < i) {
+                self.list.push(Candidate {
+                    a,
+                    partner,
+                    regional: regional(a) || matches!(partner, Partner::Mesh(_)),
+                });
+                walls.next();
+            }
+            self.list.push(Candidate {
+                a: i,
+                partner: Partner::Body(j),
+                regional: regional(i) || regional(j),
+            });
+        }
+        // Wall candidates of the last body with pairs sort after its pairs: planes and meshes
+        // come after bodies in a body's contacts.
+        for &(a, partner) in walls {
+            self.list.push(Candidate {
+                a,
+                partner,
+                regional: regional(a) || matches!(partner, Partner::Mesh(_)),
+            });
+        }
+    }
+}
+
+/// The farthest any point of the wall's bounding box has moved between two poses: |(R₁ − R₀)p +
+/// t₁ − t₀| is convex in p, so its maximum over the box is at a corner.
+fn wall_displacement(wall: &MeshWall, then: &WallPose, now: &WallPose) -> f64 {
+    let b = wall.bounds();
+    (0..8)
+        .map(|k| {
+            let corner = DVec3::new(
+                if k & 1 == 0 { b.min.x } else { b.max.x },
+                if k & 2 == 0 { b.min.y } else { b.max.y },
+                if k & 4 == 0 { b.min.z } else { b.max.z },
+            );
+            (now.to_world(corner) - then.to_world(corner)).length()
+        })
+        .fold(0.0, f64::max)
+}

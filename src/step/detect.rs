@@ -1,0 +1,196 @@
+//! Stage 2 of the contact pipeline: the narrow phase. For every candidate in the contact store, its
+//! contact geometry this step (normal, point, overlap, and for polyhedra the overlap's volume), by
+//! `narrow_phase` per pair of shape kinds; pairs that can touch in several places get their regions
+//! matched to last step's by the one rule of `contact::assign_regions`.
+
+use crate::body::Bodies;
+use crate::contact::{assign_regions, Assigned, ContactKey, ContactStore, Partner, MAX_REGIONS};
+use crate::contact_law::PolyhedralLaw;
+use crate::math::Aabb;
+use crate::narrow_phase::{
+    self, ClipScratch, ConvexMeshScratch, Geometry, MeshContact, MeshScratch, Posed, RegionScratch,
+};
+use crate::shape::Shape;
+use crate::wall::{MeshWall, Plane};
+use rayon::prelude::*;
+use std::cell::RefCell;
+
+/// Working memory of the narrow phase, one per worker thread for the life of the thread (kept in a
+/// thread-local, so parallel jobs do not build it afresh).
+#[derive(Default)]
+struct Scratch {
+    clip: ClipScratch,
+    regions: RegionScratch,
+    mesh: MeshScratch,
+    mesh_contacts: Vec<MeshContact>,
+    convex_mesh: ConvexMeshScratch,
+    found: Vec<Geometry>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// The world as the narrow phase sees it.
+#[derive(Clone, Copy)]
+pub struct Scene<'a> {
+    pub bodies: &'a Bodies,
+    pub shapes: &'a [Shape],
+    pub planes: &'a [Plane],
+    pub walls: &'a [MeshWall],
+    pub law: PolyhedralLaw,
+}
+
+impl<'a> Scene<'a> {
+    fn shape(&self, i: u32) -> &'a Shape {
+        &self.shapes[self.bodies.shape[i as usize] as usize]
+    }
+
+    fn posed(&self, i: u32) -> Posed<'a> {
+        Posed {
+            shape: self.shape(i),
+            position: self.bodies.position[i as usize],
+            orientation: self.bodies.orientation[i as usize],
+        }
+    }
+}
+
+/// Regions matched to their slots, per pair with several entries (reused from step to step).
+#[derive(Default)]
+pub struct RegionOutput {
+    assigned: Vec<[Assigned; MAX_REGIONS]>,
+}
+
+/// Writes every entry's contact geometry for this step. Returns the energy held by the history of
+/// region contacts that ended or gave their slot to a new contact (dissipated); single contacts
+/// that end are booked by the contact laws' stage.
+pub fn detect(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput) -> f64 {
+    {
+        let (keys, touching, geometry) = store.detection_mut();
+        const CHUNK: usize = 512;
+        keys.par_chunks(CHUNK)
+            .zip(touching.par_chunks_mut(CHUNK))
+            .zip(geometry.par_chunks_mut(CHUNK))
+            .for_each(|((keys, touching), geometry)| {
+                SCRATCH.with_borrow_mut(|s| {
+                    for ((key, t), g) in keys.iter().zip(touching).zip(geometry) {
+                        if is_regional(scene, key) {
+                            continue; // below
+                        }
+                        let found = single(scene, key, &mut s.clip);
+                        *t = found.is_some();
+                        if let Some(found) = found {
+                            *g = found;
+                        }
+                    }
+                });
+            });
+    }
+    let firsts = store.regional();
+    let (touching, geometry) = (store.touching(), store.geometry());
+    let keys = store.keys();
+    regions.assigned.clear();
+    regions
+        .assigned
+        .par_extend(firsts.par_iter().with_min_len(8).map(|&first| {
+            let first = first as usize;
+            let previous: [Option<Geometry>; MAX_REGIONS] =
+                std::array::from_fn(|k| touching[first + k].then_some(geometry[first + k]));
+            SCRATCH.with_borrow_mut(|s| {
+                let (found, reach) = several(scene, &keys[first], s);
+                assign_regions(&previous, found, reach)
+            })
+        }));
+    store.set_regions(&regions.assigned)
+}
+
+/// Whether the pair of `key` can touch in several places (it then has [`MAX_REGIONS`] entries):
+/// a non-convex body, or a mesh wall.
+pub fn is_regional(scene: Scene, key: &ContactKey) -> bool {
+    scene.shape(key.a).has_regions()
+        || match key.partner {
+            Partner::Body(j) => scene.shape(j).has_regions(),
+            Partner::Plane(_) => false,
+            Partner::Mesh(_) => true,
+        }
+}
+
+/// The contact of a pair that touches in one place at most.
+fn single(scene: Scene, key: &ContactKey, clip: &mut ClipScratch) -> Option<Geometry> {
+    let a = scene.posed(key.a);
+    match key.partner {
+        Partner::Body(j) => narrow_phase::body_body(a, scene.posed(j), scene.law, clip),
+        Partner::Plane(p) => {
+            let plane = &scene.planes[p as usize];
+            narrow_phase::body_plane(a, plane.point, plane.normal, scene.law)
+        }
+        Partner::Mesh(_) => unreachable!("mesh walls are regional"),
+    }
+}
+
+/// The contact regions of a pair that may touch in several places, and how far a region may move
+/// in a step and still be the same contact.
+fn several<'s>(scene: Scene, key: &ContactKey, s: &'s mut Scratch) -> (&'s [Geometry], f64) {
+    let a = scene.posed(key.a);
+    let radius = |i: u32| scene.bodies.equivalent_radius[i as usize];
+    let found = &mut s.found;
+    found.clear();
+    let reach = match key.partner {
+        Partner::Body(j) => {
+            narrow_phase::body_body_regions(a, scene.posed(j), scene.law, &mut s.regions, found);
+            0.5 * radius(key.a).min(radius(j))
+        }
+        Partner::Plane(p) => {
+            let plane = &scene.planes[p as usize];
+            narrow_phase::body_plane_regions(
+                a,
+                plane.point,
+                plane.normal,
+                scene.law,
+                &mut s.regions,
+                found,
+            );
+            0.5 * radius(key.a)
+        }
+        Partner::Mesh(w) => {
+            mesh_contacts(a, &scene.walls[w as usize], scene.law, s);
+            0.5 * radius(key.a)
+        }
+    };
+    (&s.found, reach)
+}
+
+/// A body's contacts with a mesh wall, into `s.found`. A moving wall is searched in its reference
+/// placement, with the body taken there; the contacts are brought back to the world.
+fn mesh_contacts(body: Posed, wall: &MeshWall, law: PolyhedralLaw, s: &mut Scratch) {
+    let pose = wall.pose();
+    let x = pose.to_reference(body.position);
+    let q = pose.rotation.inverse() * body.orientation;
+    match body.shape {
+        Shape::Sphere(sphere) => {
+            if wall
+                .bounds()
+                .overlaps(&Aabb::around_sphere(x, sphere.radius))
+            {
+                narrow_phase::sphere_mesh_contacts(
+                    x,
+                    sphere.radius,
+                    wall,
+                    &mut s.mesh,
+                    &mut s.mesh_contacts,
+                );
+                s.found.extend(s.mesh_contacts.iter().map(|c| c.geometry));
+            }
+        }
+        Shape::Convex(p) => {
+            narrow_phase::convex_mesh_contacts(p, x, q, wall, law, &mut s.convex_mesh, &mut s.found)
+        }
+        // The vertex law on its mesh, whether or not it has parts.
+        Shape::NonConvex(p) => {
+            narrow_phase::nonconvex_mesh_contacts(p, x, q, wall, &mut s.convex_mesh, &mut s.found)
+        }
+    }
+    for g in &mut s.found {
+        *g = g.moved(&pose);
+    }
+}

@@ -1,0 +1,237 @@
+//! Stages 3 and 4 of the contact pipeline: the contact laws give every touching contact its force,
+//! moment and energy figures (one loop over the store, in parallel, each contact writing only its
+//! own response), and the responses are summed onto the bodies (in parallel over bodies, each body
+//! adding its own contacts in store order, so the sums are bit-identical for any thread count).
+
+use crate::body::Bodies;
+use crate::contact::{ContactStore, Partner};
+use crate::contact_law::{self, History, Kinematics, Response};
+use crate::integrate;
+use crate::material::PairTable;
+use crate::math::DVec3;
+use crate::narrow_phase::{self, Geometry};
+use crate::shape::Shape;
+use crate::wall::{MeshWall, Plane, WallState};
+use rayon::prelude::*;
+
+/// What the contact laws read besides the contacts.
+#[derive(Clone, Copy)]
+pub struct LawInputs<'a> {
+    pub bodies: &'a Bodies,
+    pub shapes: &'a [Shape],
+    pub planes: &'a [Plane],
+    pub walls: &'a [MeshWall],
+    /// Each mesh wall's motion over the step and at its end; `None` for a fixed wall.
+    pub wall_states: &'a [Option<[WallState; 2]>],
+    pub laws: &'a PairTable,
+    /// Body velocities predicted at the end of the step ([`predict_end_velocities`]).
+    pub velocity_end: &'a [DVec3],
+    pub angular_velocity_end: &'a [DVec3],
+}
+
+impl LawInputs<'_> {
+    /// Velocity of the body point at `point` over the step just taken (the half-step velocity),
+    /// and predicted at the end of the step.
+    #[inline]
+    fn point_velocity(&self, body: usize, point: DVec3) -> (DVec3, DVec3) {
+        let b = self.bodies;
+        let arm = point - b.position[body];
+        let now = b.velocity[body] + b.angular_velocity[body].cross(arm);
+        let end = self.velocity_end[body] + self.angular_velocity_end[body].cross(arm);
+        (now, end)
+    }
+
+    /// The law's response for the touching contact of body `a` and `partner`.
+    fn respond(
+        &self,
+        a: usize,
+        partner: Partner,
+        g: &Geometry,
+        history: &mut History,
+        dt: f64,
+    ) -> Response {
+        let b = self.bodies;
+        let (va, va_end) = self.point_velocity(a, g.point);
+        // The partner's velocity at the contact point over the step and at its end, its angular
+        // velocity, its material; R* and m* of the pair.
+        let (vb, vb_end, wb, material, effective_radius, effective_mass) = match partner {
+            Partner::Body(j) => {
+                let j = j as usize;
+                let (vb, vb_end) = self.point_velocity(j, g.point);
+                // R* from the volume-equivalent radii (the sphere's radius on a polyhedron), as
+                // the laws and the time-step estimate define it; the bounding radius of a
+                // polyhedron would soften every contact (by 1.4 for a cube).
+                let radius = narrow_phase::effective_radius(
+                    &self.shapes[b.shape[a] as usize],
+                    &self.shapes[b.shape[j] as usize],
+                );
+                let mass = b.mass[a] * b.mass[j] / (b.mass[a] + b.mass[j]);
+                let w = b.angular_velocity[j];
+                (vb, vb_end, w, b.material[j], radius, mass)
+            }
+            Partner::Plane(p) => {
+                let material = self.planes[p as usize].material;
+                let zero = DVec3::ZERO;
+                (
+                    zero,
+                    zero,
+                    zero,
+                    material,
+                    b.equivalent_radius[a],
+                    b.mass[a],
+                )
+            }
+            Partner::Mesh(w) => {
+                let w = w as usize;
+                let (v, v_end, omega) = match &self.wall_states[w] {
+                    None => (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO),
+                    Some([over_step, at_end]) => (
+                        over_step.surface_velocity(g.point, g.normal),
+                        at_end.surface_velocity(g.point, g.normal),
+                        at_end.angular_velocity,
+                    ),
+                };
+                let material = self.walls[w].material;
+                (v, v_end, omega, material, b.equivalent_radius[a], b.mass[a])
+            }
+        };
+        let k = kinematics(
+            g,
+            va - vb,
+            va_end - vb_end,
+            b.angular_velocity[a] - wb,
+            effective_radius,
+            effective_mass,
+        );
+        let law = self.laws.get(b.material[a], material);
+        contact_law::evaluate(law, &k, history, dt)
+    }
+}
+
+/// Evaluates the contact law of every touching contact over the step `dt`. A contact that ended
+/// forgets its history; the energy its springs held is its response's `dissipated`.
+pub fn evaluate(inputs: LawInputs, store: &mut ContactStore, dt: f64) {
+    let (keys, touching, geometry, history, response) = store.laws_mut();
+    const CHUNK: usize = 256;
+    keys.par_chunks(CHUNK)
+        .zip(touching.par_chunks(CHUNK))
+        .zip(geometry.par_chunks(CHUNK))
+        .zip(history.par_chunks_mut(CHUNK))
+        .zip(response.par_chunks_mut(CHUNK))
+        .for_each(|((((keys, touching), geometry), history), response)| {
+            for k in 0..keys.len() {
+                response[k] = if touching[k] {
+                    let key = keys[k];
+                    inputs.respond(
+                        key.a as usize,
+                        key.partner,
+                        &geometry[k],
+                        &mut history[k],
+                        dt,
+                    )
+                } else if history[k] != History::default() {
+                    let lost = history[k].stored_energy();
+                    history[k] = History::default();
+                    Response {
+                        dissipated: lost,
+                        ..Response::default()
+                    }
+                } else {
+                    Response::default()
+                };
+            }
+        });
+}
+
+/// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
+/// then those whose partner it is, in store order. Returns the energy dissipated this step.
+pub fn accumulate(bodies: &mut Bodies, store: &ContactStore) -> f64 {
+    let touching = store.touching();
+    let geometry = store.geometry();
+    let response = store.responses();
+    let position = &bodies.position;
+    bodies
+        .force
+        .par_iter_mut()
+        .zip(bodies.torque.par_iter_mut())
+        .enumerate()
+        .with_min_len(256)
+        .for_each(|(i, (force, torque))| {
+            let x = position[i];
+            let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
+            for e in store.own(i) {
+                if touching[e] {
+                    let r = &response[e];
+                    f += r.force;
+                    t += (geometry[e].point - x).cross(r.force) + r.torque;
+                }
+            }
+            for &e in store.incoming(i) {
+                let e = e as usize;
+                if touching[e] {
+                    let r = &response[e];
+                    f -= r.force;
+                    t -= (geometry[e].point - x).cross(r.force) + r.torque;
+                }
+            }
+            *force = f;
+            *torque = t;
+        });
+    // Summed in fixed chunks, then the chunks in order: the same figure for any thread count.
+    let partial: Vec<f64> = response
+        .par_chunks(4096)
+        .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
+        .collect();
+    partial.iter().sum()
+}
+
+/// Velocities at the end of the step predicted from the first half-kick's forces, which are
+/// still in the force arrays: v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2, and likewise for ω. Once per
+/// body, not once per contact.
+pub fn predict_end_velocities(
+    b: &Bodies,
+    gravity: DVec3,
+    half_step: f64,
+    velocity_end: &mut Vec<DVec3>,
+    angular_velocity_end: &mut Vec<DVec3>,
+) {
+    velocity_end.resize(b.len(), DVec3::ZERO);
+    angular_velocity_end.resize(b.len(), DVec3::ZERO);
+    velocity_end
+        .par_iter_mut()
+        .zip(angular_velocity_end.par_iter_mut())
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(i, (v, w))| {
+            *v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + gravity) * half_step;
+            *w = integrate::rotation::angular_velocity(
+                b.orientation[i],
+                b.angular_momentum[i] + b.torque[i] * half_step,
+                b.inv_inertia[i],
+            );
+        });
+}
+
+/// Relative motion at a contact, from the relative velocities of the contact points.
+fn kinematics(
+    g: &Geometry,
+    relative_velocity: DVec3,
+    relative_velocity_end: DVec3,
+    relative_angular_velocity: DVec3,
+    effective_radius: f64,
+    effective_mass: f64,
+) -> Kinematics {
+    let normal_speed = relative_velocity.dot(g.normal);
+    let normal_speed_end = relative_velocity_end.dot(g.normal);
+    Kinematics {
+        normal: g.normal,
+        overlap: g.overlap,
+        overlap_rate: -normal_speed_end,
+        tangential_velocity: relative_velocity - g.normal * normal_speed,
+        tangential_velocity_end: relative_velocity_end - g.normal * normal_speed_end,
+        relative_angular_velocity,
+        effective_radius,
+        effective_mass,
+        overlap_volume: g.volume,
+    }
+}

@@ -1,0 +1,72 @@
+//! What the contacts do to the walls: the impulse and angular impulse each wall takes, and the work
+//! moving walls do on the bodies (the energy they bring in).
+
+use crate::contact::{ContactStore, Partner};
+use crate::math::DVec3;
+use crate::wall::{MeshWall, Plane, WallState};
+
+/// Running totals per wall (planes first, then mesh walls: the numbering of the output's `wall`).
+#[derive(Clone, Debug, Default)]
+pub struct WallLoads {
+    /// Time integral of the contact force on each wall since the start [N s].
+    pub impulse: Vec<DVec3>,
+    /// Time integral of the torque on each wall about its reference point (the rotation axis point
+    /// of a mesh wall, the point of a plane) [N m s].
+    pub angular_impulse: Vec<DVec3>,
+    /// Work done on the bodies by moving walls (and belt surfaces) since the start [J].
+    pub work: f64,
+    /// Power of the wall forces at the last evaluation (for the trapezoidal work integral).
+    power: f64,
+}
+
+impl WallLoads {
+    /// Books the contacts' reactions on the walls over the step `dt` (0 for a fresh evaluation,
+    /// which only sets the power the next step's work starts from). `wall_time` is when the mesh
+    /// walls are where they are.
+    pub fn book(
+        &mut self,
+        store: &ContactStore,
+        planes: &[Plane],
+        walls: &[MeshWall],
+        wall_states: &[Option<[WallState; 2]>],
+        wall_time: f64,
+        dt: f64,
+    ) {
+        let count = planes.len() + walls.len();
+        self.impulse.resize(count, DVec3::ZERO);
+        self.angular_impulse.resize(count, DVec3::ZERO);
+        let (touching, geometry, response) =
+            (store.touching(), store.geometry(), store.responses());
+        let mut power = 0.0;
+        for &e in store.wall_entries() {
+            let e = e as usize;
+            if !touching[e] {
+                continue;
+            }
+            let (f, torque) = (response[e].force, response[e].torque);
+            let (p, n) = (geometry[e].point, geometry[e].normal);
+            let (w, centre) = match store.keys()[e].partner {
+                Partner::Plane(k) => (k as usize, planes[k as usize].point),
+                Partner::Mesh(m) => {
+                    let m = m as usize;
+                    let centre = match &wall_states[m] {
+                        // Fixed walls report torques about the origin of their reference placement.
+                        None => walls[m].motion.reference_point(wall_time),
+                        Some([_, at_end]) => {
+                            power += f.dot(at_end.surface_velocity(p, n))
+                                + torque.dot(at_end.angular_velocity);
+                            at_end.centre
+                        }
+                    };
+                    (planes.len() + m, centre)
+                }
+                Partner::Body(_) => unreachable!("wall entries have wall partners"),
+            };
+            self.impulse[w] -= f * dt;
+            self.angular_impulse[w] -= ((p - centre).cross(f) + torque) * dt;
+        }
+        // Trapezoidal rule over the step.
+        self.work += 0.5 * dt * (self.power + power);
+        self.power = power;
+    }
+}
