@@ -269,8 +269,12 @@ impl World {
             .search
             .update(&self.bodies, &self.shapes, walls.0, walls.1)
         {
-            self.dissipated += self.contacts.set_candidates(list, self.bodies.len());
+            let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
+            self.dissipated += self
+                .contacts
+                .set_candidates(list, self.bodies.len(), volumes);
         }
+        self.update_wall_states(dt);
         let scene = step::Scene {
             bodies: &self.bodies,
             shapes: &self.shapes,
@@ -278,8 +282,7 @@ impl World {
             walls: &self.mesh_walls,
             law: self.polyhedral_law,
         };
-        self.dissipated += step::detect(scene, &mut self.contacts, &mut self.regions);
-        self.update_wall_states(dt);
+        self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions);
         step::predict_end_velocities(
             &self.bodies,
             self.gravity,
@@ -287,7 +290,7 @@ impl World {
             &mut self.velocity_end,
             &mut self.angular_velocity_end,
         );
-        let inputs = LawInputs {
+        let laws = LawInputs {
             bodies: &self.bodies,
             shapes: &self.shapes,
             planes: &self.planes,
@@ -297,7 +300,7 @@ impl World {
             velocity_end: &self.velocity_end,
             angular_velocity_end: &self.angular_velocity_end,
         };
-        step::evaluate(inputs, &mut self.contacts, dt);
+        step::detect_and_evaluate(scene, laws, &mut self.contacts, dt);
         self.dissipated += step::accumulate(&mut self.bodies, &self.contacts);
         self.wall_loads.book(
             &self.contacts,

@@ -23,6 +23,38 @@ impl Partner {
     }
 }
 
+/// How the narrow phase treats a pair; decided from the shapes when the pair becomes a candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairKind {
+    /// Two spheres: centre distance against the sum of radii, nothing else.
+    Spheres,
+    /// Touches in one place at most: convex shapes with each other or with a plane.
+    Single,
+    /// May touch in several places at once (a non-convex body, a mesh wall): the pair has
+    /// `MAX_REGIONS` entries, matched to last step's by `contact::assign_regions`.
+    Regional,
+}
+
+impl PairKind {
+    /// The kind of a pair of `a` and `partner`, given whether each is a sphere and whether it
+    /// may touch in several places (`None` for a wall partner).
+    pub fn of(a: ShapeTraits, partner: Partner, b: Option<ShapeTraits>) -> Self {
+        match (partner, b) {
+            (Partner::Mesh(_), _) => PairKind::Regional,
+            _ if a.regional || b.is_some_and(|b| b.regional) => PairKind::Regional,
+            (Partner::Body(_), Some(b)) if a.sphere && b.sphere => PairKind::Spheres,
+            _ => PairKind::Single,
+        }
+    }
+}
+
+/// What [`PairKind::of`] needs to know of a shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShapeTraits {
+    pub sphere: bool,
+    pub regional: bool,
+}
+
 /// The identity of one contact, stable while the contact lasts: body `a` (for two bodies the smaller
 /// index), its partner, and which of the pair's contact regions this is (0 for a pair that touches
 /// in one place). Keys sort by `(a, partner, region)`; the store keeps its contacts in that order,

@@ -5,6 +5,7 @@ mod key;
 mod regions;
 mod store;
 
-pub use key::{ContactKey, Partner};
+pub use key::{ContactKey, PairKind, Partner, ShapeTraits};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
 pub use store::{Candidate, ContactRef, ContactStore};
+pub(crate) use store::{EntryIds, EntryState};

@@ -12,54 +12,57 @@
 //! Persistent state (key, history) is kept apart from what a step recomputes (touching, geometry,
 //! response).
 
-use super::key::{ContactKey, Partner};
+use super::key::{ContactKey, PairKind, Partner};
 use super::regions::{Assigned, MAX_REGIONS};
-use crate::contact_law::{History, Response};
-use crate::narrow_phase::Geometry;
+use crate::contact_law::{History, OverlapVolume, Response};
+use crate::narrow_phase::{ContactPoint, Geometry};
 
 /// A body and a partner that may touch before the next neighbour search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Candidate {
     pub a: u32,
     pub partner: Partner,
-    /// The pair may touch in several places at once: it gets [`MAX_REGIONS`] entries.
-    pub regional: bool,
+    /// How the narrow phase treats the pair; a regional pair gets [`MAX_REGIONS`] entries.
+    pub kind: PairKind,
 }
 
 /// One contact as outside code sees it.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactRef<'a> {
     pub key: ContactKey,
-    pub geometry: &'a Geometry,
+    pub geometry: Geometry,
     pub history: &'a History,
     pub response: &'a Response,
 }
 
-const NO_GEOMETRY: Geometry = Geometry {
-    normal: crate::math::DVec3::ZERO,
-    point: crate::math::DVec3::ZERO,
-    overlap: 0.0,
-    volume: None,
-};
-
 #[derive(Clone, Debug, Default)]
 struct Persistent {
     key: Vec<ContactKey>,
+    kind: Vec<PairKind>,
     touching: Vec<bool>,
-    geometry: Vec<Geometry>,
+    geometry: Vec<ContactPoint>,
     history: Vec<History>,
 }
 
 impl Persistent {
     fn clear(&mut self) {
         self.key.clear();
+        self.kind.clear();
         self.touching.clear();
         self.geometry.clear();
         self.history.clear();
     }
 
-    fn push(&mut self, key: ContactKey, touching: bool, geometry: Geometry, history: History) {
+    fn push(
+        &mut self,
+        key: ContactKey,
+        kind: PairKind,
+        touching: bool,
+        geometry: ContactPoint,
+        history: History,
+    ) {
         self.key.push(key);
+        self.kind.push(kind);
         self.touching.push(touching);
         self.geometry.push(geometry);
         self.history.push(history);
@@ -73,6 +76,9 @@ pub struct ContactStore {
     entries: Persistent,
     /// Per entry: what the contact law gave this step (zero when not touching).
     pub(crate) response: Vec<Response>,
+    /// Per entry, only in a world with polyhedra (else empty): the overlap volume of polyhedral
+    /// contacts under the volume law.
+    volume: Vec<Option<OverlapVolume>>,
     /// First entry of each pair with [`MAX_REGIONS`] entries.
     regional: Vec<u32>,
     /// `own[i]..own[i + 1]`: the entries of body `i` as `a`.
@@ -92,7 +98,14 @@ impl ContactStore {
     /// continuing entry's state over. Returns the energy the history springs of touching contacts
     /// that are no longer candidates still held (none in a consistent neighbour search; booked as
     /// dissipated by the caller).
-    pub fn set_candidates(&mut self, candidates: &[Candidate], bodies: usize) -> f64 {
+    ///
+    /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep.
+    pub fn set_candidates(
+        &mut self,
+        candidates: &[Candidate],
+        bodies: usize,
+        volumes: bool,
+    ) -> f64 {
         debug_assert!(candidates
             .windows(2)
             .all(|w| (w[0].a, w[0].partner) < (w[1].a, w[1].partner)));
@@ -103,10 +116,11 @@ impl ContactStore {
         let mut o = 0;
         let mut lost = 0.0;
         for c in candidates {
-            if c.regional {
+            let regional = c.kind == PairKind::Regional;
+            if regional {
                 self.regional.push(self.entries.key.len() as u32);
             }
-            let regions = if c.regional { MAX_REGIONS as u8 } else { 1 };
+            let regions = if regional { MAX_REGIONS as u8 } else { 1 };
             for region in 0..regions {
                 let key = ContactKey {
                     a: c.a,
@@ -120,12 +134,18 @@ impl ContactStore {
                     o += 1;
                 }
                 if o < old.key.len() && old.key[o] == key {
+                    let (touching, geometry) = (old.touching[o], old.geometry[o]);
                     self.entries
-                        .push(key, old.touching[o], old.geometry[o], old.history[o]);
+                        .push(key, c.kind, touching, geometry, old.history[o]);
                     o += 1;
                 } else {
-                    self.entries
-                        .push(key, false, NO_GEOMETRY, History::default());
+                    self.entries.push(
+                        key,
+                        c.kind,
+                        false,
+                        ContactPoint::default(),
+                        History::default(),
+                    );
                 }
             }
         }
@@ -137,6 +157,12 @@ impl ContactStore {
         self.response.clear();
         self.response
             .resize(self.entries.key.len(), Response::default());
+        // A continuing regional contact's volume is found again before it is used; single
+        // contacts write theirs every step.
+        self.volume.clear();
+        if volumes {
+            self.volume.resize(self.entries.key.len(), None);
+        }
         self.index(bodies);
         lost
     }
@@ -195,17 +221,25 @@ impl ContactStore {
                 continue;
             }
             e.key[kept] = ContactKey { a, partner, ..key };
+            e.kind[kept] = e.kind[k];
             e.touching[kept] = e.touching[k];
             e.geometry[kept] = e.geometry[k];
             e.history[kept] = e.history[k];
             self.response[kept] = self.response[k];
+            if !self.volume.is_empty() {
+                self.volume[kept] = self.volume[k];
+            }
             kept += 1;
         }
         e.key.truncate(kept);
+        e.kind.truncate(kept);
         e.touching.truncate(kept);
         e.geometry.truncate(kept);
         e.history.truncate(kept);
         self.response.truncate(kept);
+        if !self.volume.is_empty() {
+            self.volume.truncate(kept);
+        }
         self.regional.clear();
         self.own.clear();
         self.incoming_first.clear();
@@ -227,7 +261,7 @@ impl ContactStore {
         &self.entries.touching
     }
 
-    pub fn geometry(&self) -> &[Geometry] {
+    pub fn geometry(&self) -> &[ContactPoint] {
         &self.entries.geometry
     }
 
@@ -255,30 +289,22 @@ impl ContactStore {
         &self.wall_entries
     }
 
-    /// Mutable access for the narrow phase: keys, touching flags and geometry of the entries.
-    pub(crate) fn detection_mut(&mut self) -> (&[ContactKey], &mut [bool], &mut [Geometry]) {
-        let e = &mut self.entries;
-        (&e.key, &mut e.touching, &mut e.geometry)
-    }
-
-    /// Mutable access for the contact laws: what they read and what they write.
-    #[allow(clippy::type_complexity)]
-    pub(crate) fn laws_mut(
-        &mut self,
-    ) -> (
-        &[ContactKey],
-        &[bool],
-        &[Geometry],
-        &mut [History],
-        &mut [Response],
-    ) {
+    /// The entries split for a step's pass: what identifies them, and what the narrow phase and
+    /// the contact laws write.
+    pub(crate) fn pass_mut(&mut self) -> (EntryIds<'_>, EntryState<'_>) {
         let e = &mut self.entries;
         (
-            &e.key,
-            &e.touching,
-            &e.geometry,
-            &mut e.history,
-            &mut self.response,
+            EntryIds {
+                key: &e.key,
+                kind: &e.kind,
+            },
+            EntryState {
+                touching: &mut e.touching,
+                geometry: &mut e.geometry,
+                volume: &mut self.volume,
+                history: &mut e.history,
+                response: &mut self.response,
+            },
         )
     }
 
@@ -307,7 +333,10 @@ impl ContactStore {
         }
         x.touching[e] = geometry.is_some();
         if let Some(g) = geometry {
-            x.geometry[e] = g;
+            x.geometry[e] = g.contact_point();
+            if let Some(v) = self.volume.get_mut(e) {
+                *v = g.volume;
+            }
         }
         lost
     }
@@ -319,7 +348,7 @@ impl ContactStore {
             .filter(|&k| e.touching[k])
             .map(move |k| ContactRef {
                 key: e.key[k],
-                geometry: &e.geometry[k],
+                geometry: e.geometry[k].with_volume(self.volume.get(k).copied().flatten()),
                 history: &e.history[k],
                 response: &self.response[k],
             })
@@ -353,6 +382,22 @@ impl ContactStore {
     }
 }
 
+/// Keys and kinds of a run of entries.
+pub(crate) struct EntryIds<'a> {
+    pub key: &'a [ContactKey],
+    pub kind: &'a [PairKind],
+}
+
+/// What a step writes of a run of entries.
+pub(crate) struct EntryState<'a> {
+    pub touching: &'a mut [bool],
+    pub geometry: &'a mut [ContactPoint],
+    /// Empty in a world without polyhedra.
+    pub volume: &'a mut [Option<OverlapVolume>],
+    pub history: &'a mut [History],
+    pub response: &'a mut [Response],
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -371,7 +416,7 @@ mod tests {
         Candidate {
             a,
             partner,
-            regional: false,
+            kind: PairKind::Single,
         }
     }
 
@@ -393,23 +438,23 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        store.set_candidates(&first, 3);
+        store.set_candidates(&first, 3, false);
         let e = touch(&mut store, 1, Partner::Body(2));
-        store.laws_mut().3[e].tangential_spring = DVec3::X;
-        store.laws_mut().3[e].tangential_stiffness = 4.0;
+        store.entries.history[e].tangential_spring = DVec3::X;
+        store.entries.history[e].tangential_stiffness = 4.0;
         // A new list: (0, 2) is new, (1, 2) continues, (0, 1) is gone.
         let second = [
             candidate(0, Partner::Body(2)),
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        assert_eq!(store.set_candidates(&second, 3), 0.0);
+        assert_eq!(store.set_candidates(&second, 3, false), 0.0);
         let history = |s: &ContactStore, k: usize| s.entries.history[k];
         assert_eq!(history(&store, 0), History::default());
         assert_eq!(history(&store, 1).tangential_spring, DVec3::X);
         assert!(store.touching()[1]);
         // A touching contact that drops out gives back the energy its springs held.
-        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3);
+        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3, false);
         assert_eq!(lost, 0.5 * 4.0);
     }
 
@@ -423,10 +468,10 @@ mod tests {
             Candidate {
                 a: 1,
                 partner: Partner::Mesh(0),
-                regional: true,
+                kind: PairKind::Regional,
             },
         ];
-        store.set_candidates(&list, 3);
+        store.set_candidates(&list, 3, true);
         assert_eq!(store.entries(), 3 + MAX_REGIONS);
         assert_eq!(store.own(0), 0..2);
         assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
@@ -445,7 +490,7 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, 3);
+        store.set_candidates(&list, 3, true);
         let e = touch(&mut store, 0, Partner::Body(1));
         store.response[e].elastic_energy = 2.0;
         let lost = store.renumber(&[0, u32::MAX, 1]);

@@ -51,7 +51,36 @@ pub struct Geometry {
     pub volume: Option<OverlapVolume>,
 }
 
+/// The part of a contact's geometry every contact has: what the contact store keeps per entry
+/// (polyhedra's overlap volumes are kept apart, so that a sphere contact carries nothing it does
+/// not use).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactPoint {
+    pub normal: DVec3,
+    pub point: DVec3,
+    pub overlap: f64,
+}
+
+impl ContactPoint {
+    pub fn with_volume(self, volume: Option<OverlapVolume>) -> Geometry {
+        Geometry {
+            normal: self.normal,
+            point: self.point,
+            overlap: self.overlap,
+            volume,
+        }
+    }
+}
+
 impl Geometry {
+    pub fn contact_point(&self) -> ContactPoint {
+        ContactPoint {
+            normal: self.normal,
+            point: self.point,
+            overlap: self.overlap,
+        }
+    }
+
     /// The same contact seen after the rigid motion `pose` (found on a moving wall in its
     /// reference placement, brought to the world). Identity poses leave it bit for bit.
     pub fn moved(mut self, pose: &WallPose) -> Self {

@@ -4,7 +4,10 @@
 //! matched to last step's by the one rule of `contact::assign_regions`.
 
 use crate::body::Bodies;
-use crate::contact::{assign_regions, Assigned, ContactKey, ContactStore, Partner, MAX_REGIONS};
+use crate::contact::{
+    assign_regions, Assigned, ContactKey, ContactStore, EntryIds, EntryState, PairKind, Partner,
+    MAX_REGIONS,
+};
 use crate::contact_law::PolyhedralLaw;
 use crate::math::Aabb;
 use crate::narrow_phase::{
@@ -61,41 +64,20 @@ pub struct RegionOutput {
     assigned: Vec<[Assigned; MAX_REGIONS]>,
 }
 
-/// Writes every entry's contact geometry for this step. Returns the energy held by the history of
-/// region contacts that ended or gave their slot to a new contact (dissipated); single contacts
-/// that end are booked by the contact laws' stage.
-pub fn detect(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput) -> f64 {
-    {
-        let (keys, touching, geometry) = store.detection_mut();
-        const CHUNK: usize = 512;
-        keys.par_chunks(CHUNK)
-            .zip(touching.par_chunks_mut(CHUNK))
-            .zip(geometry.par_chunks_mut(CHUNK))
-            .for_each(|((keys, touching), geometry)| {
-                SCRATCH.with_borrow_mut(|s| {
-                    for ((key, t), g) in keys.iter().zip(touching).zip(geometry) {
-                        if is_regional(scene, key) {
-                            continue; // below
-                        }
-                        let found = single(scene, key, &mut s.clip);
-                        *t = found.is_some();
-                        if let Some(found) = found {
-                            *g = found;
-                        }
-                    }
-                });
-            });
-    }
-    let firsts = store.regional();
+/// The geometry of every pair that may touch in several places, matched to last step's regions.
+/// Returns the energy held by the history of region contacts that ended or gave their slot to a
+/// new contact (dissipated).
+pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput) -> f64 {
     let (touching, geometry) = (store.touching(), store.geometry());
     let keys = store.keys();
     regions.assigned.clear();
     regions
         .assigned
-        .par_extend(firsts.par_iter().with_min_len(8).map(|&first| {
+        .par_extend(store.regional().par_iter().with_min_len(8).map(|&first| {
             let first = first as usize;
-            let previous: [Option<Geometry>; MAX_REGIONS] =
-                std::array::from_fn(|k| touching[first + k].then_some(geometry[first + k]));
+            let previous: [Option<Geometry>; MAX_REGIONS] = std::array::from_fn(|k| {
+                touching[first + k].then(|| geometry[first + k].with_volume(None))
+            });
             SCRATCH.with_borrow_mut(|s| {
                 let (found, reach) = several(scene, &keys[first], s);
                 assign_regions(&previous, found, reach)
@@ -104,15 +86,32 @@ pub fn detect(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput
     store.set_regions(&regions.assigned)
 }
 
-/// Whether the pair of `key` can touch in several places (it then has [`MAX_REGIONS`] entries):
-/// a non-convex body, or a mesh wall.
-pub fn is_regional(scene: Scene, key: &ContactKey) -> bool {
-    scene.shape(key.a).has_regions()
-        || match key.partner {
-            Partner::Body(j) => scene.shape(j).has_regions(),
-            Partner::Plane(_) => false,
-            Partner::Mesh(_) => true,
+/// The geometry of a run of entries of pairs that touch in one place at most (regional entries
+/// are left as [`detect_regions`] set them). Contacts that end are booked by the contact laws.
+pub(crate) fn detect_single(scene: Scene, ids: &EntryIds, state: &mut EntryState) {
+    let b = scene.bodies;
+    SCRATCH.with_borrow_mut(|s| {
+        for k in 0..ids.key.len() {
+            let key = &ids.key[k];
+            let found = match ids.kind[k] {
+                PairKind::Regional => continue,
+                PairKind::Spheres => {
+                    let (i, j) = (key.a as usize, key.partner.body().unwrap_or(0) as usize);
+                    // A sphere's bounding radius is its radius.
+                    let (ri, rj) = (b.bounding_radius[i], b.bounding_radius[j]);
+                    narrow_phase::sphere_sphere(b.position[i], ri, b.position[j], rj)
+                }
+                PairKind::Single => single(scene, key, &mut s.clip),
+            };
+            state.touching[k] = found.is_some();
+            if let Some(found) = found {
+                state.geometry[k] = found.contact_point();
+                if let Some(v) = state.volume.get_mut(k) {
+                    *v = found.volume;
+                }
+            }
         }
+    });
 }
 
 /// The contact of a pair that touches in one place at most.

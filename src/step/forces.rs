@@ -4,12 +4,12 @@
 //! adding its own contacts in store order, so the sums are bit-identical for any thread count).
 
 use crate::body::Bodies;
-use crate::contact::{ContactStore, Partner};
-use crate::contact_law::{self, History, Kinematics, Response};
+use crate::contact::{ContactStore, EntryIds, EntryState, Partner};
+use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response};
 use crate::integrate;
 use crate::material::PairTable;
 use crate::math::DVec3;
-use crate::narrow_phase::{self, Geometry};
+use crate::narrow_phase::{self, ContactPoint};
 use crate::shape::Shape;
 use crate::wall::{MeshWall, Plane, WallState};
 use rayon::prelude::*;
@@ -46,7 +46,8 @@ impl LawInputs<'_> {
         &self,
         a: usize,
         partner: Partner,
-        g: &Geometry,
+        g: &ContactPoint,
+        volume: Option<OverlapVolume>,
         history: &mut History,
         dt: f64,
     ) -> Response {
@@ -97,6 +98,7 @@ impl LawInputs<'_> {
         };
         let k = kinematics(
             g,
+            volume,
             va - vb,
             va_end - vb_end,
             b.angular_velocity[a] - wb,
@@ -108,39 +110,28 @@ impl LawInputs<'_> {
     }
 }
 
-/// Evaluates the contact law of every touching contact over the step `dt`. A contact that ended
-/// forgets its history; the energy its springs held is its response's `dissipated`.
-pub fn evaluate(inputs: LawInputs, store: &mut ContactStore, dt: f64) {
-    let (keys, touching, geometry, history, response) = store.laws_mut();
-    const CHUNK: usize = 256;
-    keys.par_chunks(CHUNK)
-        .zip(touching.par_chunks(CHUNK))
-        .zip(geometry.par_chunks(CHUNK))
-        .zip(history.par_chunks_mut(CHUNK))
-        .zip(response.par_chunks_mut(CHUNK))
-        .for_each(|((((keys, touching), geometry), history), response)| {
-            for k in 0..keys.len() {
-                response[k] = if touching[k] {
-                    let key = keys[k];
-                    inputs.respond(
-                        key.a as usize,
-                        key.partner,
-                        &geometry[k],
-                        &mut history[k],
-                        dt,
-                    )
-                } else if history[k] != History::default() {
-                    let lost = history[k].stored_energy();
-                    history[k] = History::default();
-                    Response {
-                        dissipated: lost,
-                        ..Response::default()
-                    }
-                } else {
-                    Response::default()
-                };
+/// Evaluates the contact law of every touching contact of a run of entries over the step `dt`. A
+/// contact that ended forgets its history; the energy its springs held is its response's
+/// `dissipated`.
+pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) {
+    for k in 0..ids.key.len() {
+        let history = &mut state.history[k];
+        state.response[k] = if state.touching[k] {
+            let key = ids.key[k];
+            let volume = state.volume.get(k).copied().flatten();
+            let g = &state.geometry[k];
+            inputs.respond(key.a as usize, key.partner, g, volume, history, dt)
+        } else if *history != History::default() {
+            let lost = history.stored_energy();
+            *history = History::default();
+            Response {
+                dissipated: lost,
+                ..Response::default()
             }
-        });
+        } else {
+            Response::default()
+        };
+    }
 }
 
 /// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
@@ -214,7 +205,8 @@ pub fn predict_end_velocities(
 
 /// Relative motion at a contact, from the relative velocities of the contact points.
 fn kinematics(
-    g: &Geometry,
+    g: &ContactPoint,
+    volume: Option<OverlapVolume>,
     relative_velocity: DVec3,
     relative_velocity_end: DVec3,
     relative_angular_velocity: DVec3,
@@ -232,6 +224,6 @@ fn kinematics(
         relative_angular_velocity,
         effective_radius,
         effective_mass,
-        overlap_volume: g.volume,
+        overlap_volume: volume,
     }
 }

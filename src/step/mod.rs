@@ -1,12 +1,15 @@
 //! The stages of a time step's contact pipeline, each a function with explicit inputs and outputs:
 //!
-//! 1. [`candidates`] — the neighbour search: which bodies and partners may touch (rebuilt only when
-//!    something has moved more than half the skin);
-//! 2. [`detect`] — the narrow phase: the contact geometry of every candidate, into the contact store;
+//! 1. [`candidates`] — the neighbour search: which bodies and partners may touch (made again only
+//!    when something has moved more than half the skin);
+//! 2. [`detect`] — the narrow phase: the contact geometry of every candidate, into the contact
+//!    store (pairs that may touch in several places first, then the rest);
 //! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact;
 //! 4. [`forces::accumulate`] — the sums onto the bodies; [`wall_loads`] the reactions on the walls.
 //!
-//! `World::advance` (src/world.rs) runs them between the two half-kicks of the integrator.
+//! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]), so that a chunk's
+//! entries are still in cache when the laws read what the narrow phase wrote.
+//! `World::update_forces` (src/world.rs) runs the stages in order.
 
 pub mod candidates;
 pub mod detect;
@@ -14,6 +17,50 @@ pub mod forces;
 pub mod wall_loads;
 
 pub use candidates::NeighbourSearch;
-pub use detect::{detect, RegionOutput, Scene};
-pub use forces::{accumulate, evaluate, predict_end_velocities, LawInputs};
+pub use detect::{detect_regions, RegionOutput, Scene};
+pub use forces::{accumulate, predict_end_velocities, LawInputs};
 pub use wall_loads::WallLoads;
+
+use crate::contact::{ContactStore, EntryIds, EntryState};
+use rayon::iter::Either;
+use rayon::prelude::*;
+
+/// Entries per parallel work item: small enough to stay in the L1/L2 cache between the narrow
+/// phase and the laws, large enough to make the scheduling cost negligible.
+const CHUNK: usize = 256;
+
+/// The narrow phase of the single-contact pairs, then the contact laws of every entry, over the
+/// step `dt`, chunk by chunk in parallel (regional pairs' geometry comes from
+/// [`detect_regions`], run before).
+pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactStore, dt: f64) {
+    let (ids, state) = store.pass_mut();
+    // A world without polyhedra keeps no volumes: each chunk gets an empty slice.
+    let volume = if state.volume.is_empty() {
+        let chunks = ids.key.len().div_ceil(CHUNK);
+        Either::Right((0..chunks).into_par_iter().map(|_| <&mut [_]>::default()))
+    } else {
+        Either::Left(state.volume.par_chunks_mut(CHUNK))
+    };
+    ids.key
+        .par_chunks(CHUNK)
+        .zip(ids.kind.par_chunks(CHUNK))
+        .zip(state.touching.par_chunks_mut(CHUNK))
+        .zip(state.geometry.par_chunks_mut(CHUNK))
+        .zip(volume)
+        .zip(state.history.par_chunks_mut(CHUNK))
+        .zip(state.response.par_chunks_mut(CHUNK))
+        .for_each(
+            |((((((key, kind), touching), geometry), volume), history), response)| {
+                let ids = EntryIds { key, kind };
+                let mut state = EntryState {
+                    touching,
+                    geometry,
+                    volume,
+                    history,
+                    response,
+                };
+                detect::detect_single(scene, &ids, &mut state);
+                forces::evaluate(laws, &ids, &mut state, dt);
+            },
+        );
+}
