@@ -3,9 +3,6 @@
 //! Kinetic + gravitational potential + elastic + dissipated is constant in an isolated system; the
 //! drift of this sum measures the error of the time integration.
 
-use crate::integrate::rotation;
-use crate::world::World;
-
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyReport {
     /// Σ ½ m v² [J].
@@ -29,31 +26,6 @@ pub struct EnergyReport {
 }
 
 impl EnergyReport {
-    pub fn of(world: &World) -> Self {
-        let b = &world.bodies;
-        let mut report = Self {
-            dissipated: world.dissipated,
-            removed: world.energy_removed,
-            inserted: world.energy_inserted,
-            wall_work: world.wall_loads().work,
-            contacts: world.contacts().len(),
-            ..Self::default()
-        };
-        for i in 0..b.len() {
-            report.kinetic_translational += 0.5 * b.mass[i] * b.velocity[i].length_squared();
-            report.kinetic_rotational += rotation::rotational_energy(
-                b.orientation[i],
-                b.angular_momentum[i],
-                b.inv_inertia[i],
-            );
-            report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
-        }
-        for c in world.contacts().iter() {
-            report.elastic += c.response.elastic_energy;
-        }
-        report
-    }
-
     /// Kinetic + potential + elastic + dissipated + carried out − brought in (by inserted bodies
     /// and by the work of moving walls): constant up to integration error.
     pub fn total(&self) -> f64 {

@@ -341,7 +341,29 @@ impl World {
 
     /// The energy ledger at the current state.
     pub fn energy(&self) -> EnergyReport {
-        EnergyReport::of(self)
+        let world = self;
+        let b = &world.bodies;
+        let mut report = EnergyReport {
+            dissipated: world.dissipated,
+            removed: world.energy_removed,
+            inserted: world.energy_inserted,
+            wall_work: world.wall_loads().work,
+            contacts: world.contacts().len(),
+            ..EnergyReport::default()
+        };
+        for i in 0..b.len() {
+            report.kinetic_translational += 0.5 * b.mass[i] * b.velocity[i].length_squared();
+            report.kinetic_rotational += integrate::rotation::rotational_energy(
+                b.orientation[i],
+                b.angular_momentum[i],
+                b.inv_inertia[i],
+            );
+            report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
+        }
+        for c in world.contacts().iter() {
+            report.elastic += c.response.elastic_energy;
+        }
+        report
     }
 
     /// Number of threads the world's parallel loops use.

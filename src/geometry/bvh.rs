@@ -184,7 +184,7 @@ impl Bvh {
             if n.count > 0 {
                 for &t in &self.order[n.first as usize..(n.first + n.count) as usize] {
                     let [a, b, c] = triangles[t as usize].map(|i| vertices[i]);
-                    let (q, _) = crate::narrow_phase::closest_point_on_triangle(p, a, b, c);
+                    let (q, _) = crate::geometry::triangle::closest_point_on_triangle(p, a, b, c);
                     let d = (q - p).length_squared();
                     if d < best_d {
                         best_d = d;
@@ -443,7 +443,8 @@ mod tests {
                 let brute = (0..n)
                     .map(|k| {
                         let [a, b, cc] = t[k].map(|i| v[i]);
-                        let (q, _) = crate::narrow_phase::closest_point_on_triangle(c, a, b, cc);
+                        let (q, _) =
+                            crate::geometry::triangle::closest_point_on_triangle(c, a, b, cc);
                         (q - c).length_squared()
                     })
                     .fold(f64::INFINITY, f64::min);

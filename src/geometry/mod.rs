@@ -8,5 +8,6 @@ pub mod predicates;
 pub mod symmetric_eigen;
 #[cfg(test)]
 pub(crate) mod test_meshes;
+pub mod triangle;
 
 pub use point_in_polyhedron::{locate_point, locate_point_bvh, Location};
