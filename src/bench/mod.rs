@@ -2,3 +2,4 @@
 //! `docs/benchmarks.md` with the command that produced them.
 
 pub mod broad_phase;
+pub mod scene;

@@ -68,6 +68,41 @@ enum Bench {
         #[arg(long, default_value_t = 20000)]
         brute_force_limit: usize,
     },
+    /// Step a scene with no output and time a window of steps at the end (the settled bed); prints
+    /// one machine-readable line, as used by scripts/bench_peers.sh.
+    Scene {
+        /// Scene file (TOML); its bodies must all be placed at the start.
+        scene: PathBuf,
+        /// Untimed steps first, after which every body is stopped: the state `bench initial
+        /// --settle-steps` writes for the peer codes. The steps below count from there.
+        #[arg(long, default_value_t = 0)]
+        settle_steps: u64,
+        /// Steps taken in all (the scene's duration is ignored).
+        #[arg(long, default_value_t = 10000)]
+        steps: u64,
+        /// First step of the timed window, which runs to the last step.
+        #[arg(long, default_value_t = 5000)]
+        window_start: u64,
+        /// Worker threads, overriding the scene's `threads` (0: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Write a scene's planes and bodies as they are at the start (one line each: spheres as
+    /// centre and radius, polyhedra as their corners), for peer codes to start from the same state.
+    Initial {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// File to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Settle this many steps first and stop the bodies, as `bench scene --settle-steps`.
+        #[arg(long, default_value_t = 0)]
+        settle_steps: u64,
+        /// Worker threads, overriding the scene's `threads` (0: one per core); the state written
+        /// does not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -88,6 +123,26 @@ fn main() -> ExitCode {
                     brute_force_limit,
                 },
         } => bench_broad_phase(&sizes, &methods, steps, brute_force_limit),
+        Command::Bench {
+            what:
+                Bench::Scene {
+                    scene,
+                    settle_steps,
+                    steps,
+                    window_start,
+                    threads,
+                },
+        } => bench_scene(&scene, settle_steps, steps, window_start, threads),
+        Command::Bench {
+            what:
+                Bench::Initial {
+                    scene,
+                    out,
+                    settle_steps,
+                    threads,
+                },
+        } => polydem::bench::scene::write_initial_bodies(&scene, settle_steps, threads, &out)
+            .map(|n| println!("wrote {n} bodies to {}", out.display())),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -194,6 +249,21 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
             w.bodies_removed
         );
     }
+    Ok(())
+}
+
+fn bench_scene(
+    scene: &Path,
+    settle_steps: u64,
+    steps: u64,
+    window_start: u64,
+    threads: Option<usize>,
+) -> Result<(), String> {
+    let timing =
+        polydem::bench::scene::run(scene, settle_steps, steps, window_start, threads, |note| {
+            eprintln!("{note}")
+        })?;
+    println!("{}", timing.line());
     Ok(())
 }
 

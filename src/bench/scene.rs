@@ -1,0 +1,424 @@
+//! Whole-scene benchmark: a scene file stepped a fixed number of steps with no output, timing only
+//! a window at the end (the settled bed), for the side-by-side comparison with other DEM codes in
+//! `scripts/bench_peers.sh`.
+//!
+//! "Contacts per particle" is defined as in the peer scripts (`bench/peers/`): 2 × the number of
+//! touching body–body pairs / the number of bodies. Contacts with walls are counted apart.
+
+use crate::math::DVec3;
+use crate::scene::Scene;
+use crate::shape::Shape;
+use crate::World;
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+/// What one benchmark run measured.
+#[derive(Clone, Debug)]
+pub struct SceneTiming {
+    /// The scene file's name without its extension.
+    pub name: String,
+    pub threads: usize,
+    pub bodies: usize,
+    /// Untimed steps taken before `steps`, after which the bodies were stopped (see [`settle`]).
+    pub settle_steps: u64,
+    /// Steps taken after settling, and the step the timed window starts at (it ends at `steps`).
+    pub steps: u64,
+    pub window_start: u64,
+    /// Wall-clock time of the window [s].
+    pub seconds: f64,
+    /// Wall-clock time of everything before the window: building the scene and the first
+    /// `window_start` steps [s].
+    pub seconds_before_window: f64,
+    /// Contacts at the end.
+    pub contacts: ContactCounts,
+    /// Peak resident memory of the process (VmHWM) [bytes], where the system reports it.
+    pub peak_rss_bytes: Option<u64>,
+}
+
+impl SceneTiming {
+    /// Bodies × window steps / window seconds.
+    pub fn particle_steps_per_second(&self) -> f64 {
+        let steps = (self.steps - self.window_start) as f64;
+        self.bodies as f64 * steps / self.seconds.max(1e-12)
+    }
+
+    /// 2 × body–body contacts / bodies.
+    pub fn contacts_per_particle(&self) -> f64 {
+        2.0 * self.contacts.body_body as f64 / (self.bodies.max(1) as f64)
+    }
+
+    /// The one machine-readable line `polydem bench scene` prints: `key=value` fields separated
+    /// by spaces, after the code's name and the scene's.
+    pub fn line(&self) -> String {
+        let rss = match self.peak_rss_bytes {
+            Some(bytes) => format!(
+                " peak_rss_bytes={bytes} rss_bytes_per_body={:.0}",
+                bytes as f64 / self.bodies.max(1) as f64
+            ),
+            None => String::new(),
+        };
+        let settle = match self.settle_steps {
+            0 => String::new(),
+            n => format!(" settle={n}"),
+        };
+        format!(
+            "polydem {} threads={} bodies={}{settle} window={}..{} seconds={:.3} \
+             particle_steps_per_s={:.3e} contacts_per_particle={:.3} wall_contacts={}{rss}",
+            self.name,
+            self.threads,
+            self.bodies,
+            self.window_start,
+            self.steps,
+            self.seconds,
+            self.particle_steps_per_second(),
+            self.contacts_per_particle(),
+            self.contacts.body_wall,
+        )
+    }
+}
+
+/// Touching pairs at one moment, each counted once (a pair touching in several regions, as
+/// non-convex bodies can, counts once).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ContactCounts {
+    /// Pairs of bodies in contact.
+    pub body_body: usize,
+    /// Pairs of a body and a wall (plane or mesh wall) in contact.
+    pub body_wall: usize,
+}
+
+/// Counts the world's current contacts. The one place the benchmark reads the contact lists.
+pub fn contact_counts(world: &World) -> ContactCounts {
+    fn pairs<'a>(keys: impl Iterator<Item = (u32, u32)> + 'a) -> usize {
+        // The lists are sorted by (a, b, slot), so a pair's contacts are adjacent.
+        let mut previous = None;
+        keys.filter(|&k| previous.replace(k) != Some(k)).count()
+    }
+    ContactCounts {
+        body_body: pairs(world.contacts.contacts.iter().map(|c| (c.a, c.b))),
+        body_wall: pairs(world.plane_contacts.contacts.iter().map(|c| (c.a, c.b)))
+            + pairs(world.mesh_contacts.contacts.iter().map(|c| (c.a, c.b))),
+    }
+}
+
+/// Translational plus rotational kinetic energy of the bodies [J]: near zero once settled.
+fn kinetic_energy(world: &World) -> f64 {
+    let e = world.energy();
+    e.kinetic_translational + e.kinetic_rotational
+}
+
+/// Peak resident set size of this process (`VmHWM` in `/proc/self/status`) [bytes]; `None`
+/// where there is no such file (not Linux).
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kilobytes: u64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kilobytes * 1024)
+}
+
+/// Loads `file` as `polydem run` does, with the threads overridden if asked; refuses scenes that
+/// insert bodies during the run.
+fn load(file: &Path, threads: Option<usize>) -> Result<World, String> {
+    let mut scene = Scene::load(file).map_err(|e| e.to_string())?;
+    if let Some(threads) = threads {
+        scene.spec.simulation.threads = threads;
+    }
+    let prepared = scene.build().map_err(|e| e.to_string())?;
+    if !prepared.schedule.is_empty() {
+        return Err(format!(
+            "'{}' inserts bodies during the run; a benchmark scene must place all its bodies at \
+             the start (insertions with time = 0 and no `every`)",
+            file.display()
+        ));
+    }
+    Ok(prepared.world)
+}
+
+/// Takes `steps` steps, then stops every body (zero velocity and spin), if `steps` > 0: a bed
+/// settled this way is the state handed to the peer codes at rest (`polydem bench initial
+/// --settle-steps`), and polydem continues from the same state. The contact histories are kept.
+/// Runs are deterministic whatever the thread count, so every run settles to the same state.
+pub fn settle(world: &mut World, steps: u64) {
+    if steps == 0 {
+        return;
+    }
+    world.run_steps(steps);
+    let b = &mut world.bodies;
+    for v in [
+        &mut b.velocity,
+        &mut b.angular_momentum,
+        &mut b.angular_velocity,
+    ] {
+        v.iter_mut().for_each(|v| *v = DVec3::ZERO);
+    }
+}
+
+/// Loads `file` as `polydem run` does, overrides the threads if asked, settles it for
+/// `settle_steps` (see [`settle`]), then takes `steps` steps without writing anything and times
+/// steps `window_start..steps`. The scene's `duration` and output settings are ignored.
+/// `progress` is told what happens before the window.
+pub fn run(
+    file: &Path,
+    settle_steps: u64,
+    steps: u64,
+    window_start: u64,
+    threads: Option<usize>,
+    mut progress: impl FnMut(&str),
+) -> Result<SceneTiming, String> {
+    if window_start >= steps {
+        return Err(format!(
+            "the window must not be empty: --window-start {window_start} must be below --steps {steps}"
+        ));
+    }
+    let start = Instant::now();
+    let mut world = load(file, threads)?;
+    let world = &mut world;
+    progress(&format!(
+        "built {} bodies in {:.2} s; time step {:.3e} s, {} threads",
+        world.bodies.len(),
+        start.elapsed().as_secs_f64(),
+        world.time_step,
+        world.threads()
+    ));
+    if settle_steps > 0 {
+        settle(world, settle_steps);
+        progress(&format!(
+            "settled {settle_steps} steps after {:.2} s; bodies stopped",
+            start.elapsed().as_secs_f64()
+        ));
+    }
+    world.run_steps(window_start);
+    let seconds_before_window = start.elapsed().as_secs_f64();
+    let counts = contact_counts(world);
+    progress(&format!(
+        "step {window_start} after {seconds_before_window:.2} s: {} body-body contacts, {} wall \
+         contacts, kinetic energy {:.4e} J",
+        counts.body_body,
+        counts.body_wall,
+        kinetic_energy(world)
+    ));
+    let window = Instant::now();
+    world.run_steps(steps - window_start);
+    let seconds = window.elapsed().as_secs_f64();
+    progress(&format!(
+        "step {steps}: kinetic energy {:.4e} J",
+        kinetic_energy(world)
+    ));
+    let name = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    Ok(SceneTiming {
+        name,
+        threads: world.threads(),
+        bodies: world.bodies.len(),
+        settle_steps,
+        steps,
+        window_start,
+        seconds,
+        seconds_before_window,
+        contacts: contact_counts(world),
+        peak_rss_bytes: peak_rss_bytes(),
+    })
+}
+
+/// Builds `file`, settles it for `settle_steps` (see [`settle`]; 0: the bodies as placed) and
+/// writes its bodies (see [`write_bodies`]), so that the peer codes start from the very state
+/// `run` with the same `settle_steps` times from. Returns how many bodies were written.
+pub fn write_initial_bodies(
+    file: &Path,
+    settle_steps: u64,
+    threads: Option<usize>,
+    out: &Path,
+) -> Result<usize, String> {
+    let mut world = load(file, threads)?;
+    settle(&mut world, settle_steps);
+    let write = |out: &Path| -> std::io::Result<()> {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(out)?);
+        write_bodies(&world, &mut w)?;
+        w.flush()
+    };
+    write(out).map_err(|e| format!("writing '{}': {e}", out.display()))?;
+    Ok(world.bodies.len())
+}
+
+/// Writes the world's plane walls and bodies, one line each, space-separated, in SI units:
+///
+/// - `plane x y z nx ny nz`: a point of the plane and its unit normal (pointing to the bodies)
+/// - `sphere x y z radius density`
+/// - `polyhedron x y z density n x1 y1 z1 … xn yn zn`: the centre of mass, the mass density, then
+///   the n corners in world coordinates (the body is their convex hull).
+///
+/// Lines starting with `#` are comments. Velocities are not written: the bodies are to start at
+/// rest.
+/// Non-convex bodies are refused.
+pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> {
+    let b = &world.bodies;
+    writeln!(
+        out,
+        "# polydem bodies: {} bodies, {} planes (SI units)",
+        b.len(),
+        world.planes.len()
+    )?;
+    writeln!(
+        out,
+        "# plane x y z nx ny nz (a point and the normal towards the bodies)"
+    )?;
+    writeln!(out, "# sphere x y z radius density")?;
+    writeln!(
+        out,
+        "# polyhedron x y z density n x1 y1 z1 ... (centre of mass, n corners in world coordinates)"
+    )?;
+    for p in &world.planes {
+        let (x, n) = (p.point, p.normal);
+        writeln!(out, "plane {} {} {} {} {} {}", x.x, x.y, x.z, n.x, n.y, n.z)?;
+    }
+    for i in 0..b.len() {
+        let x = b.position[i];
+        let density = world.materials[b.material[i] as usize].density;
+        match &world.shapes[b.shape[i] as usize] {
+            Shape::Sphere(s) => {
+                writeln!(out, "sphere {} {} {} {} {density}", x.x, x.y, x.z, s.radius)?
+            }
+            Shape::Convex(p) => {
+                let n = p.vertices().len();
+                write!(out, "polyhedron {} {} {} {density} {n}", x.x, x.y, x.z)?;
+                for v in p.vertices() {
+                    let v = x + b.orientation[i] * *v;
+                    write!(out, " {} {} {}", v.x, v.y, v.z)?;
+                }
+                writeln!(out)?;
+            }
+            Shape::NonConvex(_) => {
+                return Err(std::io::Error::other(format!(
+                    "body {} is non-convex: only spheres and convex polyhedra can be written",
+                    b.id[i]
+                )))
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two spheres pressed slightly together on a floor, and a cube resting on the floor apart.
+    const SCENE: &str = r#"
+[simulation]
+time_step = 1.0e-6
+duration = 1.0e-3
+
+[[material]]
+name = "m"
+density = 2500.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.5
+
+[shape.cube]
+type = "box"
+edges = [0.01, 0.01, 0.01]
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "m"
+
+[[particle]]
+radius = 0.001
+material = "m"
+position = [0.0, 0.0, 0.000999]
+
+[[particle]]
+radius = 0.001
+material = "m"
+position = [0.001999, 0.0, 0.000999]
+
+[[particle]]
+shape = "cube"
+material = "m"
+position = [0.05, 0.0, 0.004999]
+"#;
+
+    fn scene_file(dir: &tempfile::TempDir) -> std::path::PathBuf {
+        let file = dir.path().join("three.toml");
+        std::fs::write(&file, SCENE).unwrap();
+        file
+    }
+
+    #[test]
+    fn counts_each_touching_pair_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut prepared = Scene::load(&scene_file(&dir)).unwrap().build().unwrap();
+        prepared.world.run_steps(2);
+        let counts = contact_counts(&prepared.world);
+        assert_eq!(counts.body_body, 1);
+        // Each sphere touches the floor, and the cube's face touches it (once, however many
+        // regions or corners).
+        assert_eq!(counts.body_wall, 3);
+    }
+
+    #[test]
+    fn times_the_window_and_prints_one_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut notes = Vec::new();
+        let t = run(&scene_file(&dir), 0, 20, 10, Some(1), |n| {
+            notes.push(n.to_string())
+        })
+        .unwrap();
+        assert_eq!((t.name.as_str(), t.bodies, t.threads), ("three", 3, 1));
+        assert_eq!((t.window_start, t.steps), (10, 20));
+        assert!(t.seconds > 0.0 && t.particle_steps_per_second() > 0.0);
+        assert!((t.contacts_per_particle() - 2.0 / 3.0).abs() < 1e-12);
+        let line = t.line();
+        assert!(line.starts_with("polydem three threads=1 bodies=3 window=10..20 "));
+        assert!(line.contains(" contacts_per_particle=0.667 wall_contacts=3"));
+        assert_eq!(notes.len(), 3);
+        let empty = run(&scene_file(&dir), 0, 10, 10, None, |_| {});
+        assert!(empty.unwrap_err().contains("must be below --steps"));
+    }
+
+    #[test]
+    fn writes_planes_spheres_and_polyhedron_corners() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("three.bodies");
+        assert_eq!(
+            write_initial_bodies(&scene_file(&dir), 0, None, &out).unwrap(),
+            3
+        );
+        let text = std::fs::read_to_string(&out).unwrap();
+        let lines: Vec<Vec<&str>> = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split_whitespace().collect())
+            .collect();
+        assert_eq!(lines.len(), 4);
+        assert_eq!(lines[0], ["plane", "0", "0", "0", "0", "0", "1"]);
+        assert_eq!(lines[1], ["sphere", "0", "0", "0.000999", "0.001", "2500"]);
+        assert_eq!(lines[2][0], "sphere");
+        let cube = &lines[3];
+        assert_eq!(cube[0], "polyhedron");
+        assert_eq!(&cube[4..6], ["2500", "8"]);
+        let numbers: Vec<f64> = cube[1..].iter().map(|v| v.parse().unwrap()).collect();
+        let centre = DVec3::new(numbers[0], numbers[1], numbers[2]);
+        assert!((centre - DVec3::new(0.05, 0.0, 0.004999)).length() < 1e-12);
+        assert_eq!(numbers.len(), 5 + 3 * 8);
+        for corner in numbers[5..].chunks(3) {
+            let d = DVec3::new(corner[0], corner[1], corner[2]) - centre;
+            // Axis-aligned: every corner is 5 mm from the centre along each axis.
+            for c in d.to_array() {
+                assert!((c.abs() - 0.005).abs() < 1e-12, "{d}");
+            }
+        }
+    }
+}
