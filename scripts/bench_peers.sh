@@ -16,14 +16,14 @@
 #                              window steps 5,000-10,000
 #   cubes_1k                   Yade (bench/peers/yade/cubes.py): the bed settled by polydem
 #                              (10,000 steps of 50 us, untimed) handed over at rest to both
-#                              codes, then 500 steps, window steps 100-500
+#                              codes, then 300 steps, window steps 100-300 (Yade: ~2 min)
 #
 # Environment:
 #   ROUNDS=2                          alternations per scene and thread count
 #   SCENES="spheres_10k cubes_1k"     which scenes (spheres_65k takes about an hour a round)
 #   THREADS="1 2"                     threads (polydem, Yade) or MPI ranks (LIGGGHTS)
 #   SPHERE_STEPS=10000 SPHERE_WINDOW=5000   steps, and the step the timed window starts at
-#   CUBE_STEPS=500 CUBE_WINDOW=100          (smaller values for a quick check)
+#   CUBE_STEPS=300 CUBE_WINDOW=100          (smaller values for a quick check)
 #   CUBE_SETTLE=10000                 polydem's untimed settling before the cubes' hand-over
 #   OUT=output/bench_peers            where logs, bodies files and results.md go
 #   NO_INSTALL=1                      do not install anything
@@ -35,7 +35,7 @@ SCENES=${SCENES:-spheres_10k cubes_1k}
 THREADS=${THREADS:-1 2}
 SPHERE_STEPS=${SPHERE_STEPS:-10000}
 SPHERE_WINDOW=${SPHERE_WINDOW:-5000}
-CUBE_STEPS=${CUBE_STEPS:-500}
+CUBE_STEPS=${CUBE_STEPS:-300}
 CUBE_WINDOW=${CUBE_WINDOW:-100}
 CUBE_SETTLE=${CUBE_SETTLE:-10000}
 OUT=${OUT:-output/bench_peers}
@@ -76,9 +76,10 @@ run_polydem() { # scene threads steps window_start log settle_steps
   "$POLYDEM" bench scene "bench/$1.toml" --threads "$2" --steps "$3" --window-start "$4" \
     --settle-steps "$6" >"$5" 2>"$5.err" || { cat "$5.err" >&2; return 1; }
   line=$(grep '^polydem ' "$5")
-  echo "$(field seconds "$line") $(field particle_steps_per_s "$line")" \
-    "$(field contacts_per_particle "$line") $(field wall_contacts "$line")" \
-    "$(field rss_bytes_per_body "$line")"
+  awk -v t="$(field seconds "$line")" -v pss="$(field particle_steps_per_s "$line")" \
+    -v cpp="$(field contacts_per_particle "$line")" -v wall="$(field wall_contacts "$line")" \
+    -v rss="$(field rss_bytes_per_body "$line")" \
+    'BEGIN { printf "%.2f %.3e %.3f %d %s\n", t, pss, cpp, wall, (rss == "" ? "-" : rss) }'
 }
 
 run_liggghts() { # data ranks steps window_start log
@@ -92,7 +93,7 @@ run_liggghts() { # data ranks steps window_start log
   awk -v l="$loop" -v cpp="$(field contacts_per_particle "$line")" \
     -v wall="$(field wall_contacts "$line")" 'BEGIN {
       split(l, w, " "); t = w[4]; s = w[9]; n = w[12]
-      printf "%.3f %.3e %.3f %d -\n", t, n * s / t, cpp, wall
+      printf "%.2f %.3e %.3f %d -\n", t, n * s / t, cpp, wall
     }'
 }
 
@@ -101,8 +102,9 @@ run_yade() { # bodies threads steps window_start log
   "$YADE" -n -x -j "$2" -f 2 "$YADE_SCRIPT" "$1" "$3" "$4" >"$5" 2>"$5.err" </dev/null ||
     { tail -20 "$5.err" >&2; return 1; }
   line=$(grep '^YADE_RESULT' "$5")
-  echo "$(field seconds "$line") $(field particle_steps_per_s "$line")" \
-    "$(field contacts_per_particle "$line") $(field wall_contacts "$line") -"
+  awk -v t="$(field seconds "$line")" -v pss="$(field particle_steps_per_s "$line")" \
+    -v cpp="$(field contacts_per_particle "$line")" -v wall="$(field wall_contacts "$line")" \
+    'BEGIN { printf "%.2f %.3e %.3f %d -\n", t, pss, cpp, wall }'
 }
 
 # --- The table ---------------------------------------------------------------------------------

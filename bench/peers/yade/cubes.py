@@ -6,7 +6,7 @@
 #   polydem bench initial bench/cubes_1k.toml --settle-steps 10000 --out cubes_1k.bodies
 #   yade -n -x -j 1 bench/peers/yade/cubes.py cubes_1k.bodies [STEPS [WINDOW_START]]
 #
-# Steps STEPS (default 500) of 50 us and times steps WINDOW_START..STEPS (default 100; Yade needs
+# Steps STEPS (default 300) of 50 us and times steps WINDOW_START..STEPS (default 100; Yade needs
 # the first steps to take up the shear springs that polydem kept). Ends with one line
 #   YADE_RESULT bodies=N threads=T window=A..B seconds=S particle_steps_per_s=P contacts_per_particle=C wall_contacts=W
 # C = 2 x (touching body pairs: penetration volume > 0) / N, as polydem counts; W = body-wall
@@ -59,7 +59,7 @@ def read_bodies(path):
 def main(argv):
     if not 2 <= len(argv) <= 4:
         sys.exit("usage: yade -n -x -j THREADS cubes.py BODIES [STEPS [WINDOW_START]]")
-    steps = int(argv[2]) if len(argv) > 2 else 500
+    steps = int(argv[2]) if len(argv) > 2 else 300
     window_start = int(argv[3]) if len(argv) > 3 else min(100, steps // 2)
     if not 0 <= window_start < steps:
         sys.exit("WINDOW_START must lie in [0, STEPS)")
