@@ -90,15 +90,19 @@ pub struct ContactCounts {
 
 /// Counts the world's current contacts. The one place the benchmark reads the contact lists.
 pub fn contact_counts(world: &World) -> ContactCounts {
-    fn pairs<'a>(keys: impl Iterator<Item = (u32, u32)> + 'a) -> usize {
-        // The lists are sorted by (a, b, slot), so a pair's contacts are adjacent.
+    use crate::contact::ContactRef;
+    fn pairs<'a>(contacts: impl Iterator<Item = ContactRef<'a>>) -> usize {
+        // The store is sorted by (a, partner, region), so a pair's contacts are adjacent.
         let mut previous = None;
-        keys.filter(|&k| previous.replace(k) != Some(k)).count()
+        contacts
+            .map(|c| (c.key.a, c.key.partner))
+            .filter(|&k| previous.replace(k) != Some(k))
+            .count()
     }
+    let contacts = world.contacts();
     ContactCounts {
-        body_body: pairs(world.contacts.contacts.iter().map(|c| (c.a, c.b))),
-        body_wall: pairs(world.plane_contacts.contacts.iter().map(|c| (c.a, c.b)))
-            + pairs(world.mesh_contacts.contacts.iter().map(|c| (c.a, c.b))),
+        body_body: pairs(contacts.between_bodies()),
+        body_wall: pairs(contacts.iter().filter(|c| c.key.partner.is_wall())),
     }
 }
 
