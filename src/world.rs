@@ -10,7 +10,9 @@ use crate::integrate;
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
-use crate::step::{self, LawInputs, NeighbourSearch, RegionOutput, WallLoads};
+use crate::step::{
+    self, BodyMotion, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
+};
 use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
 use rayon::prelude::*;
@@ -70,9 +72,9 @@ pub struct World {
     skin_setting: Option<f64>,
     search: NeighbourSearch,
     regions: RegionOutput,
-    velocity_end: Vec<DVec3>,
-    angular_velocity_end: Vec<DVec3>,
+    motion: Vec<BodyMotion>,
     forces_current: bool,
+    times: StageTimes,
     pool: std::sync::Arc<rayon::ThreadPool>,
 }
 
@@ -108,9 +110,9 @@ impl World {
             skin_setting: config.skin,
             search: NeighbourSearch::new(config.broad_phase, config.skin.unwrap_or(f64::INFINITY)),
             regions: RegionOutput::default(),
-            velocity_end: Vec::new(),
-            angular_velocity_end: Vec::new(),
+            motion: Vec::new(),
             forces_current: false,
+            times: StageTimes::default(),
             pool,
         })
     }
@@ -239,15 +241,21 @@ impl World {
             self.update_forces(0.0);
         }
         let dt = self.time_step;
+        let mut clock = Stopwatch::start();
         integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
         integrate::drift(&mut self.bodies, dt);
+        clock.lap(&mut self.times.integrate);
         for meter in &mut self.flow_meters {
             meter.record(&self.bodies, dt);
         }
         self.move_walls_to(self.time + dt);
+        clock.lap(&mut self.times.other);
         self.update_forces(dt);
+        let mut clock = Stopwatch::start();
         integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
+        clock.lap(&mut self.times.integrate);
         self.remove_bodies_outside_domain();
+        clock.lap(&mut self.times.other);
         self.time += dt;
         self.steps_done += 1;
     }
@@ -264,6 +272,7 @@ impl World {
     /// touches whom, with what force. `dt` is the interval the contact histories advance by (0 at
     /// the start).
     fn update_forces(&mut self, dt: f64) {
+        let mut clock = Stopwatch::start();
         let walls = (&self.planes, &self.mesh_walls);
         if let Some(list) = self
             .search
@@ -283,13 +292,8 @@ impl World {
             law: self.polyhedral_law,
         };
         self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions);
-        step::predict_end_velocities(
-            &self.bodies,
-            self.gravity,
-            0.5 * dt,
-            &mut self.velocity_end,
-            &mut self.angular_velocity_end,
-        );
+        clock.lap(&mut self.times.regions);
+        step::pack_motion(&self.bodies, self.gravity, 0.5 * dt, &mut self.motion);
         let laws = LawInputs {
             bodies: &self.bodies,
             shapes: &self.shapes,
@@ -297,10 +301,11 @@ impl World {
             walls: &self.mesh_walls,
             wall_states: &self.wall_states,
             laws: &self.pair_laws,
-            velocity_end: &self.velocity_end,
-            angular_velocity_end: &self.angular_velocity_end,
+            motion: &self.motion,
         };
+        clock.lap(&mut self.times.other);
         step::detect_and_evaluate(scene, laws, &mut self.contacts, dt);
+        clock.lap(&mut self.times.detect_and_evaluate);
         self.dissipated += step::accumulate(&mut self.bodies, &self.contacts);
         self.wall_loads.book(
             &self.contacts,
@@ -310,6 +315,7 @@ impl World {
             self.wall_time,
             dt,
         );
+        clock.lap(&mut self.times.accumulate);
         self.forces_current = true;
     }
 
@@ -364,6 +370,11 @@ impl World {
             report.elastic += c.response.elastic_energy;
         }
         report
+    }
+
+    /// Wall-clock time spent in each stage of the step since the world was built.
+    pub fn stage_times(&self) -> &StageTimes {
+        &self.times
     }
 
     /// Number of threads the world's parallel loops use.

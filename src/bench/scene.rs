@@ -209,11 +209,22 @@ pub fn run(
         kinetic_energy(world)
     ));
     let window = Instant::now();
+    let before = *world.stage_times();
     world.run_steps(steps - window_start);
     let seconds = window.elapsed().as_secs_f64();
+    let after = *world.stage_times();
+    let in_window = crate::step::StageTimes {
+        integrate: after.integrate - before.integrate,
+        candidates: after.candidates - before.candidates,
+        regions: after.regions - before.regions,
+        detect_and_evaluate: after.detect_and_evaluate - before.detect_and_evaluate,
+        accumulate: after.accumulate - before.accumulate,
+        other: after.other - before.other,
+    };
     progress(&format!(
-        "step {steps}: kinetic energy {:.4e} J",
-        kinetic_energy(world)
+        "step {steps}: kinetic energy {:.4e} J; window by stage: {}",
+        kinetic_energy(world),
+        in_window.summary()
     ));
     let name = file
         .file_stem()

@@ -16,6 +16,9 @@ pub struct NormalForce {
     pub elastic_energy: f64,
     /// Torque on body i about the contact point from the pressure's distribution (volume law).
     pub couple: DVec3,
+    /// Hertz's contact radius a = √(R* δ) [m] (0 for the other laws): Mindlin's tangential
+    /// stiffness is 8 G* a.
+    pub contact_radius: f64,
 }
 
 impl NormalForce {
@@ -26,22 +29,27 @@ impl NormalForce {
     }
 }
 
-/// F_el(δ) and S_n(δ) for the law, without damping.
-pub fn elastic(law: &PairLaw, overlap: f64, effective_radius: f64) -> (f64, f64, f64) {
+/// F_el(δ), S_n(δ) and the elastic energy for the law, without damping; and Hertz's contact
+/// radius (0 for the linear law).
+pub fn elastic(law: &PairLaw, overlap: f64, effective_radius: f64) -> (f64, f64, f64, f64) {
     match law.normal {
         NormalLaw::Linear { stiffness } => (
             stiffness * overlap,
             stiffness,
             0.5 * stiffness * overlap * overlap,
+            0.0,
         ),
         NormalLaw::Hertz => {
             // F = K δ^{3/2}, K = 4/3 E* √R*; S_n = 3/2 K √δ = 2 E* √(R* δ); energy 2/5 K δ^{5/2}.
-            let k = 4.0 / 3.0 * law.effective_youngs_modulus * effective_radius.sqrt();
-            let root = overlap.sqrt();
+            // All three from one root, the contact radius a = √(R* δ): F = 4/3 E* δ a,
+            // S_n = 2 E* a, energy 8/15 E* δ² a.
+            let a = (effective_radius * overlap).sqrt();
+            let e = law.effective_youngs_modulus;
             (
-                k * overlap * root,
-                1.5 * k * root,
-                0.4 * k * overlap * overlap * root,
+                4.0 / 3.0 * e * overlap * a,
+                2.0 * e * a,
+                8.0 / 15.0 * e * overlap * overlap * a,
+                a,
             )
         }
     }
@@ -87,21 +95,22 @@ pub fn volume_law(
 /// Hertz, of Cundall & Strack 1979 for the linear spring), cut off at zero so that a contact never
 /// pulls: the damping constant c of [`super::restitution`] accounts for the cut-off.
 pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
-    let ((elastic, stiffness, elastic_energy), c, pressure_couple) = match k.overlap_volume {
-        Some(v) => {
-            let (force, stiffness, energy, pressure) = volume_law(law, v, k.effective_radius);
-            (
-                (force, stiffness, energy),
-                law.damping_volume,
-                -pressure * v.couple,
-            )
-        }
-        None => (
-            elastic(law, k.overlap, k.effective_radius),
-            law.damping,
-            DVec3::ZERO,
-        ),
-    };
+    let ((elastic, stiffness, elastic_energy, contact_radius), c, pressure_couple) =
+        match k.overlap_volume {
+            Some(v) => {
+                let (force, stiffness, energy, pressure) = volume_law(law, v, k.effective_radius);
+                (
+                    (force, stiffness, energy, 0.0),
+                    law.damping_volume,
+                    -pressure * v.couple,
+                )
+            }
+            None => (
+                elastic(law, k.overlap, k.effective_radius),
+                law.damping,
+                DVec3::ZERO,
+            ),
+        };
     let damping = c * (k.effective_mass * stiffness).sqrt() * k.overlap_rate;
     let total = (elastic + damping).max(0.0);
     NormalForce {
@@ -112,7 +121,8 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
         // The pressure's moment, scaled with the force when damping or the no-tension cut-off
         // change it (the pressure is then taken as scaled uniformly). The vertex law's dashpot
         // is one, at the contact point: its couple is that of the springs, only ever cut down.
-        couple: if elastic > 0.0 {
+        contact_radius,
+        couple: if elastic > 0.0 && k.overlap_volume.is_some() {
             let scale = total / elastic;
             match k.overlap_volume.map(|v| v.law) {
                 Some(PolyhedralLaw::Vertex) => pressure_couple * scale.min(1.0),

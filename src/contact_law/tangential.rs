@@ -19,9 +19,8 @@ pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
     }
     match law.normal {
         NormalLaw::Linear { .. } => law.tangential_stiffness_ratio * normal.stiffness,
-        NormalLaw::Hertz => {
-            8.0 * law.effective_shear_modulus * (k.effective_radius * k.overlap).sqrt()
-        }
+        // Mindlin: 8 G* a, a = √(R* δ) the contact radius the normal law found.
+        NormalLaw::Hertz => 8.0 * law.effective_shear_modulus * normal.contact_radius,
     }
 }
 
@@ -61,9 +60,10 @@ pub fn tangential_force(
     let mut xi = old_xi + k.tangential_velocity * dt;
     let mut force = -kt * xi + damping;
     let limit = law.friction * normal.total;
-    let magnitude = force.length();
-    if magnitude > limit {
-        force *= limit / magnitude;
+    // Compared squared: a sticking contact needs no root.
+    let magnitude_squared = force.length_squared();
+    if magnitude_squared > limit * limit {
+        force *= limit / magnitude_squared.sqrt();
         // Spring elongation consistent with the limited force (LAMMPS: ξ = −(F + γ v_t)/k_t).
         xi = -(force - damping) / kt;
     }

@@ -4,7 +4,7 @@
 //! adding its own contacts in store order, so the sums are bit-identical for any thread count).
 
 use crate::body::Bodies;
-use crate::contact::{ContactStore, EntryIds, EntryState, Partner};
+use crate::contact::{ContactKey, ContactStore, EntryIds, EntryState, PairKind, Partner};
 use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response};
 use crate::integrate;
 use crate::material::PairTable;
@@ -24,9 +24,24 @@ pub struct LawInputs<'a> {
     /// Each mesh wall's motion over the step and at its end; `None` for a fixed wall.
     pub wall_states: &'a [Option<[WallState; 2]>],
     pub laws: &'a PairTable,
-    /// Body velocities predicted at the end of the step ([`predict_end_velocities`]).
-    pub velocity_end: &'a [DVec3],
-    pub angular_velocity_end: &'a [DVec3],
+    /// Each body's motion packed for the contact loops ([`pack_motion`]).
+    pub motion: &'a [BodyMotion],
+}
+
+/// What the contact loops read of a body, in two cache lines: one random access per body and
+/// contact instead of one per quantity.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub struct BodyMotion {
+    pub position: DVec3,
+    /// Velocity and angular velocity over the step just taken (half-step values).
+    pub velocity: DVec3,
+    pub angular_velocity: DVec3,
+    /// The same predicted at the end of the step.
+    pub velocity_end: DVec3,
+    pub angular_velocity_end: DVec3,
+    /// Bounding radius (a sphere's radius).
+    pub radius: f64,
 }
 
 impl LawInputs<'_> {
@@ -34,40 +49,46 @@ impl LawInputs<'_> {
     /// and predicted at the end of the step.
     #[inline]
     fn point_velocity(&self, body: usize, point: DVec3) -> (DVec3, DVec3) {
-        let b = self.bodies;
-        let arm = point - b.position[body];
-        let now = b.velocity[body] + b.angular_velocity[body].cross(arm);
-        let end = self.velocity_end[body] + self.angular_velocity_end[body].cross(arm);
+        let m = &self.motion[body];
+        let arm = point - m.position;
+        let now = m.velocity + m.angular_velocity.cross(arm);
+        let end = m.velocity_end + m.angular_velocity_end.cross(arm);
         (now, end)
     }
 
     /// The law's response for the touching contact of body `a` and `partner`.
     fn respond(
         &self,
-        a: usize,
-        partner: Partner,
+        key: ContactKey,
+        kind: PairKind,
         g: &ContactPoint,
         volume: Option<OverlapVolume>,
         history: &mut History,
         dt: f64,
     ) -> Response {
         let b = self.bodies;
+        let a = key.a as usize;
         let (va, va_end) = self.point_velocity(a, g.point);
         // The partner's velocity at the contact point over the step and at its end, its angular
         // velocity, its material; R* and m* of the pair.
-        let (vb, vb_end, wb, material, effective_radius, effective_mass) = match partner {
+        let (vb, vb_end, wb, material, effective_radius, effective_mass) = match key.partner {
             Partner::Body(j) => {
                 let j = j as usize;
                 let (vb, vb_end) = self.point_velocity(j, g.point);
                 // R* from the volume-equivalent radii (the sphere's radius on a polyhedron), as
                 // the laws and the time-step estimate define it; the bounding radius of a
                 // polyhedron would soften every contact (by 1.4 for a cube).
-                let radius = narrow_phase::effective_radius(
-                    &self.shapes[b.shape[a] as usize],
-                    &self.shapes[b.shape[j] as usize],
-                );
+                let radius = if kind == PairKind::Spheres {
+                    let (ra, rb) = (self.motion[a].radius, self.motion[j].radius);
+                    ra * rb / (ra + rb)
+                } else {
+                    narrow_phase::effective_radius(
+                        &self.shapes[b.shape[a] as usize],
+                        &self.shapes[b.shape[j] as usize],
+                    )
+                };
                 let mass = b.mass[a] * b.mass[j] / (b.mass[a] + b.mass[j]);
-                let w = b.angular_velocity[j];
+                let w = self.motion[j].angular_velocity;
                 (vb, vb_end, w, b.material[j], radius, mass)
             }
             Partner::Plane(p) => {
@@ -101,7 +122,7 @@ impl LawInputs<'_> {
             volume,
             va - vb,
             va_end - vb_end,
-            b.angular_velocity[a] - wb,
+            self.motion[a].angular_velocity - wb,
             effective_radius,
             effective_mass,
         );
@@ -120,7 +141,7 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
             let key = ids.key[k];
             let volume = state.volume.get(k).copied().flatten();
             let g = &state.geometry[k];
-            inputs.respond(key.a as usize, key.partner, g, volume, history, dt)
+            inputs.respond(key, ids.kind[k], g, volume, history, dt)
         } else if *history != History::default() {
             let lost = history.stored_energy();
             *history = History::default();
@@ -176,30 +197,28 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore) -> f64 {
     partial.iter().sum()
 }
 
-/// Velocities at the end of the step predicted from the first half-kick's forces, which are
-/// still in the force arrays: v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2, and likewise for ω. Once per
-/// body, not once per contact.
-pub fn predict_end_velocities(
-    b: &Bodies,
-    gravity: DVec3,
-    half_step: f64,
-    velocity_end: &mut Vec<DVec3>,
-    angular_velocity_end: &mut Vec<DVec3>,
-) {
-    velocity_end.resize(b.len(), DVec3::ZERO);
-    angular_velocity_end.resize(b.len(), DVec3::ZERO);
-    velocity_end
+/// Packs each body's motion for the contact loops, with its velocities at the end of the step
+/// predicted from the first half-kick's forces, which are still in the force arrays:
+/// v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2, and likewise for ω. Once per body, not once per contact.
+pub fn pack_motion(b: &Bodies, gravity: DVec3, half_step: f64, motion: &mut Vec<BodyMotion>) {
+    motion.resize(b.len(), BodyMotion::default());
+    motion
         .par_iter_mut()
-        .zip(angular_velocity_end.par_iter_mut())
         .enumerate()
         .with_min_len(1024)
-        .for_each(|(i, (v, w))| {
-            *v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + gravity) * half_step;
-            *w = integrate::rotation::angular_velocity(
-                b.orientation[i],
-                b.angular_momentum[i] + b.torque[i] * half_step,
-                b.inv_inertia[i],
-            );
+        .for_each(|(i, m)| {
+            *m = BodyMotion {
+                position: b.position[i],
+                velocity: b.velocity[i],
+                angular_velocity: b.angular_velocity[i],
+                velocity_end: b.velocity[i] + (b.force[i] * b.inv_mass[i] + gravity) * half_step,
+                angular_velocity_end: integrate::rotation::angular_velocity(
+                    b.orientation[i],
+                    b.angular_momentum[i] + b.torque[i] * half_step,
+                    b.inv_inertia[i],
+                ),
+                radius: b.bounding_radius[i],
+            };
         });
 }
 
