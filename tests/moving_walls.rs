@@ -271,3 +271,36 @@ fn drum_carries_a_resting_cube_with_its_surface_velocity() {
     let angle = x.x.atan2(-x.y);
     assert!((angle - 0.3 * omega).abs() < 0.05, "angle {angle}");
 }
+
+/// A floor rising at 0.5 m/s towards a sphere floating 5 mm above it (no gravity: far beyond the
+/// skin when the neighbour list is first made, 1 mm). Only the wall moves, so only the wall's own
+/// motion can make the list go stale: the neighbour search must be made again as the wall comes
+/// (regression test for the candidate list of moving walls). The floor then hits the sphere
+/// like an infinitely heavy wall: it leaves at (1 + e) u = 0.75 m/s, and never sinks into it by
+/// more than a fraction of its radius.
+#[test]
+fn a_moving_wall_reaches_a_body_far_beyond_the_skin() {
+    let mut w = world_with_gravity(0.3, 0.0, DVec3::ZERO);
+    let mut wall = floor(3);
+    let u = 0.5;
+    wall.motion = WallMotion::fixed()
+        .with_velocity(DVec3::new(0.0, 0.0, u))
+        .unwrap();
+    w.mesh_walls.push(wall);
+    let i = sphere_at(&mut w, DVec3::new(0.01, 0.02, 0.01));
+    assert!(w.skin() < 0.2 * 0.01, "the sphere starts beyond the skin");
+    let mut deepest: f64 = 0.0;
+    for _ in 0..100 {
+        w.run_steps(100); // 20 ms in all
+        let floor_z = u * w.time;
+        deepest = deepest.max(floor_z - (w.bodies.position[i].z - RADIUS));
+    }
+    let v = w.bodies.velocity[i];
+    assert!(
+        (v.z - 1.5 * u).abs() < 0.05 * u && v.x.abs() < 1e-9 && v.y.abs() < 1e-9,
+        "the sphere left at {v}, expected (0, 0, {})",
+        1.5 * u
+    );
+    assert!(deepest < 0.05 * RADIUS, "sank {deepest} m into the floor");
+    assert!(w.pair_rebuilds() > 1, "the list was made again");
+}
