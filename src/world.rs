@@ -295,10 +295,7 @@ impl World {
         clock.lap(&mut self.times.regions);
         step::pack_motion(&self.bodies, self.gravity, 0.5 * dt, &mut self.motion);
         let laws = LawInputs {
-            bodies: &self.bodies,
-            shapes: &self.shapes,
-            planes: &self.planes,
-            walls: &self.mesh_walls,
+            scene,
             wall_states: &self.wall_states,
             laws: &self.pair_laws,
             motion: &self.motion,

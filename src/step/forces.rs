@@ -10,17 +10,15 @@ use crate::integrate;
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
-use crate::shape::Shape;
-use crate::wall::{MeshWall, Plane, WallState};
+use crate::step::Scene;
+use crate::wall::WallState;
 use rayon::prelude::*;
 
 /// What the contact laws read besides the contacts.
 #[derive(Clone, Copy)]
 pub struct LawInputs<'a> {
-    pub bodies: &'a Bodies,
-    pub shapes: &'a [Shape],
-    pub planes: &'a [Plane],
-    pub walls: &'a [MeshWall],
+    /// The bodies, their shapes and the walls.
+    pub scene: Scene<'a>,
     /// Each mesh wall's motion over the step and at its end; `None` for a fixed wall.
     pub wall_states: &'a [Option<[WallState; 2]>],
     pub laws: &'a PairTable,
@@ -66,7 +64,7 @@ impl LawInputs<'_> {
         history: &mut History,
         dt: f64,
     ) -> Response {
-        let b = self.bodies;
+        let (b, shapes) = (self.scene.bodies, self.scene.shapes);
         let a = key.a as usize;
         let (va, va_end) = self.point_velocity(a, g.point);
         // The partner's velocity at the contact point over the step and at its end, its angular
@@ -83,8 +81,8 @@ impl LawInputs<'_> {
                     ra * rb / (ra + rb)
                 } else {
                     narrow_phase::effective_radius(
-                        &self.shapes[b.shape[a] as usize],
-                        &self.shapes[b.shape[j] as usize],
+                        &shapes[b.shape[a] as usize],
+                        &shapes[b.shape[j] as usize],
                     )
                 };
                 let mass = b.mass[a] * b.mass[j] / (b.mass[a] + b.mass[j]);
@@ -92,7 +90,7 @@ impl LawInputs<'_> {
                 (vb, vb_end, w, b.material[j], radius, mass)
             }
             Partner::Plane(p) => {
-                let material = self.planes[p as usize].material;
+                let material = self.scene.planes[p as usize].material;
                 let zero = DVec3::ZERO;
                 (
                     zero,
@@ -113,7 +111,7 @@ impl LawInputs<'_> {
                         at_end.angular_velocity,
                     ),
                 };
-                let material = self.walls[w].material;
+                let material = self.scene.walls[w].material;
                 (v, v_end, omega, material, b.equivalent_radius[a], b.mass[a])
             }
         };
