@@ -73,6 +73,8 @@ pub struct World {
     search: NeighbourSearch,
     regions: RegionOutput,
     motion: Vec<BodyMotion>,
+    /// Per-chunk sums of the dissipated energy (working memory of `step::accumulate`).
+    dissipated_chunks: Vec<f64>,
     forces_current: bool,
     times: StageTimes,
     pool: std::sync::Arc<rayon::ThreadPool>,
@@ -111,6 +113,7 @@ impl World {
             search: NeighbourSearch::new(config.broad_phase, config.skin.unwrap_or(f64::INFINITY)),
             regions: RegionOutput::default(),
             motion: Vec::new(),
+            dissipated_chunks: Vec::new(),
             forces_current: false,
             times: StageTimes::default(),
             pool,
@@ -303,7 +306,11 @@ impl World {
         clock.lap(&mut self.times.other);
         step::detect_and_evaluate(scene, laws, &mut self.contacts, dt);
         clock.lap(&mut self.times.detect_and_evaluate);
-        self.dissipated += step::accumulate(&mut self.bodies, &self.contacts);
+        self.dissipated += step::accumulate(
+            &mut self.bodies,
+            &self.contacts,
+            &mut self.dissipated_chunks,
+        );
         self.wall_loads.book(
             &self.contacts,
             &self.planes,

@@ -71,10 +71,11 @@ pub struct RegionOutput {
 pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput) -> f64 {
     let (touching, geometry) = (store.touching(), store.geometry());
     let keys = store.keys();
-    regions.assigned.clear();
-    regions
-        .assigned
-        .par_extend(store.regional().par_iter().with_min_len(8).map(|&first| {
+    store
+        .regional()
+        .par_iter()
+        .with_min_len(8)
+        .map(|&first| {
             let first = first as usize;
             let previous: [Option<Geometry>; MAX_REGIONS] = std::array::from_fn(|k| {
                 touching[first + k].then(|| geometry[first + k].with_volume(None))
@@ -83,7 +84,8 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
                 let (found, reach) = several(scene, &keys[first], s);
                 assign_regions(&previous, found, reach)
             })
-        }));
+        })
+        .collect_into_vec(&mut regions.assigned);
     store.set_regions(&regions.assigned)
 }
 

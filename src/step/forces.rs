@@ -155,7 +155,8 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
 
 /// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
 /// then those whose partner it is, in store order. Returns the energy dissipated this step.
-pub fn accumulate(bodies: &mut Bodies, store: &ContactStore) -> f64 {
+/// `partial` is working memory kept from step to step.
+pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, partial: &mut Vec<f64>) -> f64 {
     let touching = store.touching();
     let geometry = store.geometry();
     let response = store.responses();
@@ -188,10 +189,10 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore) -> f64 {
             *torque = t;
         });
     // Summed in fixed chunks, then the chunks in order: the same figure for any thread count.
-    let partial: Vec<f64> = response
+    response
         .par_chunks(4096)
         .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
-        .collect();
+        .collect_into_vec(partial);
     partial.iter().sum()
 }
 
