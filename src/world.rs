@@ -6,12 +6,12 @@ use crate::contact::ContactStore;
 use crate::contact_law::PolyhedralLaw;
 use crate::energy::EnergyReport;
 use crate::flow::FlowMeter;
-use crate::integrate;
+use crate::integrate::{self, BodyMotion, Kick};
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::{
-    self, BodyMotion, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
+    self, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
 };
 use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
@@ -236,27 +236,30 @@ impl World {
         });
     }
 
-    /// One time step. The stages, in order: half kick with the current forces, drift, broad
-    /// phase, narrow phase, contact laws, force accumulation, half kick with the new forces.
+    /// One time step. The stages, in order: half kick with the current forces and drift (one pass
+    /// over the bodies), neighbour search, narrow phase, contact laws, force sums with the closing
+    /// half kick (one pass).
     fn advance(&mut self) {
         if !self.forces_current {
             self.move_walls_to(self.time);
-            self.update_forces(0.0);
+            integrate::motion::pack(&self.bodies, &mut self.motion);
+            self.update_forces(0.0, None);
         }
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
-        integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
-        integrate::drift(&mut self.bodies, dt);
+        integrate::kick_drift(&mut self.bodies, self.gravity, dt, &mut self.motion);
         clock.lap(&mut self.times.integrate);
         for meter in &mut self.flow_meters {
             meter.record(&self.bodies, dt);
         }
         self.move_walls_to(self.time + dt);
         clock.lap(&mut self.times.other);
-        self.update_forces(dt);
+        let kick = Kick {
+            gravity: self.gravity,
+            h: 0.5 * dt,
+        };
+        self.update_forces(dt, Some(kick));
         let mut clock = Stopwatch::start();
-        integrate::kick(&mut self.bodies, self.gravity, 0.5 * dt);
-        clock.lap(&mut self.times.integrate);
         self.remove_bodies_outside_domain();
         clock.lap(&mut self.times.other);
         self.time += dt;
@@ -273,8 +276,8 @@ impl World {
 
     /// Runs the contact pipeline (`step/`) at the current positions: who may touch whom, who
     /// touches whom, with what force. `dt` is the interval the contact histories advance by (0 at
-    /// the start).
-    fn update_forces(&mut self, dt: f64) {
+    /// the start), with the bodies' motion already packed; `kick` closes the step.
+    fn update_forces(&mut self, dt: f64, kick: Option<Kick>) {
         let mut clock = Stopwatch::start();
         let walls = (&self.planes, &self.mesh_walls);
         if let Some(list) = self
@@ -296,7 +299,6 @@ impl World {
         };
         self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions);
         clock.lap(&mut self.times.regions);
-        step::pack_motion(&self.bodies, self.gravity, 0.5 * dt, &mut self.motion);
         let laws = LawInputs {
             scene,
             wall_states: &self.wall_states,
@@ -309,6 +311,7 @@ impl World {
         self.dissipated += step::accumulate(
             &mut self.bodies,
             &self.contacts,
+            kick,
             &mut self.dissipated_chunks,
         );
         self.wall_loads.book(

@@ -154,6 +154,35 @@ pub struct Response {
     pub dissipated: f64,
 }
 
+/// [`evaluate`] for a point contact (no overlap volume) under a law without rolling friction, the
+/// contact of two spheres or a sphere and a wall: the same arithmetic in the same order, without
+/// the terms that are zero there, so the result is the same to the bit (a property test holds
+/// them together); the sphere fast path (`step::spheres`) calls it.
+#[inline(always)]
+pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -> Response {
+    debug_assert!(k.overlap_volume.is_none() && law.rolling_friction <= 0.0);
+    let (elastic, stiffness, elastic_energy, contact_radius) =
+        normal::elastic(law, k.overlap, k.effective_radius);
+    let damping = law.damping * (k.effective_mass * stiffness).sqrt() * k.overlap_rate;
+    let n = normal::NormalForce {
+        elastic,
+        total: (elastic + damping).max(0.0),
+        stiffness,
+        elastic_energy,
+        couple: DVec3::ZERO,
+        contact_radius,
+    };
+    let t = tangential::tangential_force(law, k, &n, history, dt);
+    Response {
+        force: k.normal * n.total + t.force,
+        torque: DVec3::ZERO,
+        normal_force: n.total,
+        elastic_energy: n.elastic_energy + t.elastic_energy,
+        // `+ 0.0` as in the full sum: it makes a negative zero positive.
+        dissipated: n.dissipated(k.overlap_rate, dt) + t.dissipated + 0.0,
+    }
+}
+
 /// Evaluates the composed law for one contact over a step `dt`, updating its history.
 pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -> Response {
     let n = normal::normal_force(law, k);

@@ -31,6 +31,7 @@ impl NormalForce {
 
 /// F_el(δ), S_n(δ) and the elastic energy for the law, without damping; and Hertz's contact
 /// radius (0 for the linear law).
+#[inline]
 pub fn elastic(law: &PairLaw, overlap: f64, effective_radius: f64) -> (f64, f64, f64, f64) {
     match law.normal {
         NormalLaw::Linear { stiffness } => (

@@ -13,6 +13,7 @@ pub struct TangentialForce {
 
 /// Tangential stiffness k_t: Mindlin (1949) k_t = 8 G* √(R* δ) for Hertz, a fixed ratio of k_n for
 /// the linear law and the volume law of polyhedra.
+#[inline]
 pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
     if k.overlap_volume.is_some() {
         return law.tangential_stiffness_ratio * normal.stiffness;
@@ -33,6 +34,7 @@ pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
 /// the force is set to the limit and ξ shortened to match. Energy: the work the force does against
 /// the relative motion, less the change in spring energy, is what was dissipated (with Mindlin's
 /// overlap-dependent k_t this includes the small energy the changing stiffness adds or removes).
+#[inline]
 pub fn tangential_force(
     law: &PairLaw,
     k: &Kinematics,
@@ -84,6 +86,7 @@ pub fn tangential_force(
 }
 
 /// Projects a history vector onto the plane normal to `n`, keeping its length.
+#[inline]
 pub fn rotate_into_plane(v: DVec3, n: DVec3) -> DVec3 {
     let length_squared = v.length_squared();
     if length_squared == 0.0 {

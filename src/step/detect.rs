@@ -14,7 +14,6 @@ use crate::narrow_phase::{
     self, ClipScratch, ConvexMeshScratch, Geometry, MeshContact, MeshScratch, Posed, RegionScratch,
 };
 use crate::shape::Shape;
-use crate::step::BodyMotion;
 use crate::wall::{MeshWall, Plane};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -91,23 +90,13 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
 
 /// The geometry of a run of entries of pairs that touch in one place at most (regional entries
 /// are left as [`detect_regions`] set them). Contacts that end are booked by the contact laws.
-pub(crate) fn detect_single(
-    scene: Scene,
-    motion: &[BodyMotion],
-    ids: &EntryIds,
-    state: &mut EntryState,
-) {
+pub(crate) fn detect_single(scene: Scene, ids: &EntryIds, state: &mut EntryState) {
     SCRATCH.with_borrow_mut(|s| {
         for k in 0..ids.key.len() {
             let key = &ids.key[k];
             let found = match ids.kind[k] {
-                PairKind::Regional => continue,
-                PairKind::Spheres => {
-                    let (i, j) = (key.a as usize, key.partner.body().unwrap_or(0) as usize);
-                    // A sphere's bounding radius is its radius.
-                    let (i, j) = (&motion[i], &motion[j]);
-                    narrow_phase::sphere_sphere(i.position, i.radius, j.position, j.radius)
-                }
+                // Sphere pairs find their contact with their law (step::spheres).
+                PairKind::Regional | PairKind::Spheres => continue,
                 PairKind::Single => single(scene, key, &mut s.clip),
             };
             state.touching[k] = found.is_some();

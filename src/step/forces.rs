@@ -6,10 +6,11 @@
 use crate::body::Bodies;
 use crate::contact::{ContactKey, ContactStore, EntryIds, EntryState, PairKind, Partner};
 use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response};
-use crate::integrate;
+use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
+use crate::step::spheres::EntryOut;
 use crate::step::Scene;
 use crate::wall::WallState;
 use rayon::prelude::*;
@@ -26,22 +27,6 @@ pub struct LawInputs<'a> {
     pub motion: &'a [BodyMotion],
 }
 
-/// What the contact loops read of a body, in two cache lines: one random access per body and
-/// contact instead of one per quantity.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(64))]
-pub struct BodyMotion {
-    pub position: DVec3,
-    /// Velocity and angular velocity over the step just taken (half-step values).
-    pub velocity: DVec3,
-    pub angular_velocity: DVec3,
-    /// The same predicted at the end of the step.
-    pub velocity_end: DVec3,
-    pub angular_velocity_end: DVec3,
-    /// Bounding radius (a sphere's radius).
-    pub radius: f64,
-}
-
 impl LawInputs<'_> {
     /// Velocity of the body point at `point` over the step just taken (the half-step velocity),
     /// and predicted at the end of the step.
@@ -55,7 +40,7 @@ impl LawInputs<'_> {
     }
 
     /// The law's response for the touching contact of body `a` and `partner`.
-    fn respond(
+    pub(crate) fn respond(
         &self,
         key: ContactKey,
         kind: PairKind,
@@ -129,45 +114,84 @@ impl LawInputs<'_> {
     }
 }
 
-/// Evaluates the contact law of every touching contact of a run of entries over the step `dt`. A
-/// contact that ended forgets its history; the energy its springs held is its response's
-/// `dissipated`.
+/// Evaluates the contact law of every touching contact of a run of entries over the step `dt`
+/// (sphere pairs find their contact here too, see [`spheres`](super::spheres)). A contact that
+/// ended forgets its history; the energy its springs held is its response's `dissipated`.
 pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) {
     for k in 0..ids.key.len() {
+        let key = ids.key[k];
         let history = &mut state.history[k];
+        if ids.kind[k] == PairKind::Spheres {
+            let out = EntryOut {
+                touching: &mut state.touching[k],
+                geometry: &mut state.geometry[k],
+                history,
+                response: &mut state.response[k],
+            };
+            super::spheres::sphere_pair(&inputs, key, out, dt);
+            continue;
+        }
         state.response[k] = if state.touching[k] {
-            let key = ids.key[k];
             let volume = state.volume.get(k).copied().flatten();
             let g = &state.geometry[k];
             inputs.respond(key, ids.kind[k], g, volume, history, dt)
-        } else if *history != History::default() {
-            let lost = history.stored_energy();
-            *history = History::default();
-            Response {
-                dissipated: lost,
-                ..Response::default()
-            }
         } else {
-            Response::default()
+            ended(history)
         };
     }
 }
 
+/// The response of a contact that does not touch: none, and if it touched before, its history is
+/// dropped and the energy its springs held is booked as dissipated.
+#[inline]
+pub(crate) fn ended(history: &mut History) -> Response {
+    if *history == History::default() {
+        return Response::default();
+    }
+    let lost = history.stored_energy();
+    *history = History::default();
+    Response {
+        dissipated: lost,
+        ..Response::default()
+    }
+}
+
 /// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
-/// then those whose partner it is, in store order. Returns the energy dissipated this step.
-/// `partial` is working memory kept from step to step.
-pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, partial: &mut Vec<f64>) -> f64 {
+/// then those whose partner it is, in store order; then gives each body the step's closing half
+/// `kick`, if any, while its sums are at hand. Returns the energy dissipated this step. `partial`
+/// is working memory kept from step to step.
+pub fn accumulate(
+    bodies: &mut Bodies,
+    store: &ContactStore,
+    kick: Option<Kick>,
+    partial: &mut Vec<f64>,
+) -> f64 {
     let touching = store.touching();
     let geometry = store.geometry();
     let response = store.responses();
-    let position = &bodies.position;
-    bodies
-        .force
+    let Bodies {
+        position,
+        orientation,
+        velocity,
+        angular_momentum,
+        angular_velocity,
+        inv_mass,
+        inv_inertia,
+        force,
+        torque,
+        ..
+    } = bodies;
+    let (position, orientation) = (&*position, &*orientation);
+    let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
+    force
         .par_iter_mut()
-        .zip(bodies.torque.par_iter_mut())
+        .zip(torque.par_iter_mut())
+        .zip(velocity.par_iter_mut())
+        .zip(angular_momentum.par_iter_mut())
+        .zip(angular_velocity.par_iter_mut())
         .enumerate()
         .with_min_len(256)
-        .for_each(|(i, (force, torque))| {
+        .for_each(|(i, ((((force, torque), v), l), w))| {
             let x = position[i];
             let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
             for e in store.own(i) {
@@ -187,6 +211,17 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, partial: &mut Vec<f
             }
             *force = f;
             *torque = t;
+            if let Some(kick) = kick {
+                let body = KickedBody {
+                    velocity: v,
+                    angular_momentum: l,
+                    angular_velocity: w,
+                    orientation: orientation[i],
+                    inv_mass: inv_mass[i],
+                    inv_inertia: inv_inertia[i],
+                };
+                kick.apply(body, f, t);
+            }
         });
     // Summed in fixed chunks, then the chunks in order: the same figure for any thread count.
     response
@@ -196,33 +231,9 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, partial: &mut Vec<f
     partial.iter().sum()
 }
 
-/// Packs each body's motion for the contact loops, with its velocities at the end of the step
-/// predicted from the first half-kick's forces, which are still in the force arrays:
-/// v_{n+1} ≈ v_{n+½} + (F_n/m + g) dt/2, and likewise for ω. Once per body, not once per contact.
-pub fn pack_motion(b: &Bodies, gravity: DVec3, half_step: f64, motion: &mut Vec<BodyMotion>) {
-    motion.resize(b.len(), BodyMotion::default());
-    motion
-        .par_iter_mut()
-        .enumerate()
-        .with_min_len(1024)
-        .for_each(|(i, m)| {
-            *m = BodyMotion {
-                position: b.position[i],
-                velocity: b.velocity[i],
-                angular_velocity: b.angular_velocity[i],
-                velocity_end: b.velocity[i] + (b.force[i] * b.inv_mass[i] + gravity) * half_step,
-                angular_velocity_end: integrate::rotation::angular_velocity(
-                    b.orientation[i],
-                    b.angular_momentum[i] + b.torque[i] * half_step,
-                    b.inv_inertia[i],
-                ),
-                radius: b.bounding_radius[i],
-            };
-        });
-}
-
 /// Relative motion at a contact, from the relative velocities of the contact points.
-fn kinematics(
+#[inline]
+pub(crate) fn kinematics(
     g: &ContactPoint,
     volume: Option<OverlapVolume>,
     relative_velocity: DVec3,

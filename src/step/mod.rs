@@ -14,12 +14,13 @@
 pub mod candidates;
 pub mod detect;
 pub mod forces;
+pub mod spheres;
 pub mod timing;
 pub mod wall_loads;
 
 pub use candidates::NeighbourSearch;
 pub use detect::{detect_regions, RegionOutput, Scene};
-pub use forces::{accumulate, pack_motion, BodyMotion, LawInputs};
+pub use forces::{accumulate, LawInputs};
 pub use timing::{StageTimes, Stopwatch};
 pub use wall_loads::WallLoads;
 
@@ -61,7 +62,7 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
                     history,
                     response,
                 };
-                detect::detect_single(scene, laws.motion, &ids, &mut state);
+                detect::detect_single(scene, &ids, &mut state);
                 forces::evaluate(laws, &ids, &mut state, dt);
             },
         );

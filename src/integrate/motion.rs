@@ -1,0 +1,72 @@
+//! What the contact loops read of a body, packed once per step.
+
+use super::rotation;
+use crate::body::Bodies;
+use crate::math::{DQuat, DVec3};
+use rayon::prelude::*;
+
+/// A body's position and motion in two cache lines: one random access per body and contact
+/// instead of one per quantity.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub struct BodyMotion {
+    pub position: DVec3,
+    /// Velocity and angular velocity over the step just taken (half-step values).
+    pub velocity: DVec3,
+    pub angular_velocity: DVec3,
+    /// The same predicted at the end of the step.
+    pub velocity_end: DVec3,
+    pub angular_velocity_end: DVec3,
+    /// Bounding radius (a sphere's radius).
+    pub radius: f64,
+}
+
+impl BodyMotion {
+    /// The motion of a body at `position` with half-step velocities `velocity` and
+    /// `angular_velocity`, and those at the end of the step predicted from the last forces, which
+    /// the closing half kick will add again to first order: v_{n+1} ≈ v_{n+½} + (F_n/m + g) h and
+    /// L_{n+1} ≈ L_{n+½} + τ_n h. `rotation` is (orientation, angular momentum, inverse inertia),
+    /// `load` (acceleration F/m + g, torque τ).
+    #[inline]
+    pub fn predict(
+        position: DVec3,
+        velocity: DVec3,
+        angular_velocity: DVec3,
+        rotation: (DQuat, DVec3, DVec3),
+        load: (DVec3, DVec3),
+        h: f64,
+        radius: f64,
+    ) -> Self {
+        let (q, l, inv_i) = rotation;
+        let (acceleration, torque) = load;
+        BodyMotion {
+            position,
+            velocity,
+            angular_velocity,
+            velocity_end: velocity + acceleration * h,
+            angular_velocity_end: rotation::angular_velocity(q, l + torque * h, inv_i),
+            radius,
+        }
+    }
+}
+
+/// Packs every body's motion as it is, for an evaluation outside the step (the first one, or
+/// after bodies were added or removed): the end velocities are the current ones.
+pub fn pack(b: &Bodies, motion: &mut Vec<BodyMotion>) {
+    motion.resize(b.len(), BodyMotion::default());
+    motion
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(i, m)| {
+            *m = BodyMotion::predict(
+                b.position[i],
+                b.velocity[i],
+                b.angular_velocity[i],
+                (b.orientation[i], b.angular_momentum[i], b.inv_inertia[i]),
+                (DVec3::ZERO, DVec3::ZERO),
+                0.0,
+                b.bounding_radius[i],
+            );
+        });
+}
