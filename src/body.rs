@@ -4,7 +4,7 @@
 //! quantity contiguous lets those loops vectorise and split across threads without gathering.
 //! Index `i` in every array is the same body. Bodies never move between indices during a step.
 
-use crate::math::{DQuat, DVec3};
+use crate::math::{permute_in_place, DQuat, DVec3};
 use crate::shape::Shape;
 
 /// Index of a shape in the world's shape table (bodies of equal shape share one entry).
@@ -126,5 +126,27 @@ impl Bodies {
         compact(&mut self.inv_inertia, keep);
         compact(&mut self.force, keep);
         compact(&mut self.torque, keep);
+    }
+
+    /// Puts the bodies in a new order: body `k` becomes what body `order[k]` was.
+    pub fn permute(&mut self, order: &[u32]) {
+        debug_assert_eq!(order.len(), self.len());
+        let done = &mut Vec::new();
+        permute_in_place(&mut self.id, order, done);
+        permute_in_place(&mut self.shape, order, done);
+        permute_in_place(&mut self.material, order, done);
+        permute_in_place(&mut self.bounding_radius, order, done);
+        permute_in_place(&mut self.equivalent_radius, order, done);
+        permute_in_place(&mut self.position, order, done);
+        permute_in_place(&mut self.orientation, order, done);
+        permute_in_place(&mut self.velocity, order, done);
+        permute_in_place(&mut self.angular_momentum, order, done);
+        permute_in_place(&mut self.angular_velocity, order, done);
+        permute_in_place(&mut self.mass, order, done);
+        permute_in_place(&mut self.inv_mass, order, done);
+        permute_in_place(&mut self.inertia, order, done);
+        permute_in_place(&mut self.inv_inertia, order, done);
+        permute_in_place(&mut self.force, order, done);
+        permute_in_place(&mut self.torque, order, done);
     }
 }

@@ -56,3 +56,50 @@ impl Aabb {
 pub fn is_finite_vec(v: DVec3) -> bool {
     v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
 }
+
+/// Puts `values` in a new order in place: element `k` becomes what element `order[k]` was
+/// (`order` a permutation). Follows the permutation's cycles, so it needs no second copy of the
+/// values, only one flag per element (`done`, working memory).
+pub fn permute_in_place<T: Copy>(values: &mut [T], order: &[u32], done: &mut Vec<bool>) {
+    debug_assert_eq!(values.len(), order.len());
+    done.clear();
+    done.resize(values.len(), false);
+    for start in 0..values.len() {
+        if done[start] {
+            continue;
+        }
+        let first = values[start];
+        let mut k = start;
+        loop {
+            done[k] = true;
+            let from = order[k] as usize;
+            if from == start {
+                values[k] = first;
+                break;
+            }
+            values[k] = values[from];
+            k = from;
+        }
+    }
+}
+
+#[cfg(test)]
+mod permute_tests {
+    use super::permute_in_place;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// In-place permutation gives what gathering into a new vector gives.
+        #[test]
+        fn permuting_in_place_is_gathering(keys in prop::collection::vec(any::<u32>(), 0..200)) {
+            // The order that sorts `keys` (ties by position): any permutation.
+            let mut order: Vec<u32> = (0..keys.len() as u32).collect();
+            order.sort_by_key(|&k| (keys[k as usize], k));
+            let values: Vec<u64> = (0..keys.len() as u64).map(|v| v * 7 + 3).collect();
+            let gathered: Vec<u64> = order.iter().map(|&k| values[k as usize]).collect();
+            let mut permuted = values.clone();
+            permute_in_place(&mut permuted, &order, &mut Vec::new());
+            prop_assert_eq!(permuted, gathered);
+        }
+    }
+}

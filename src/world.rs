@@ -11,7 +11,7 @@ use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::{
-    self, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
+    self, space_order, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
 };
 use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
@@ -76,6 +76,8 @@ pub struct World {
     /// Per-chunk sums of the dissipated energy (working memory of `step::accumulate`).
     dissipated_chunks: Vec<f64>,
     forces_current: bool,
+    /// See [`World::set_sort_interval`].
+    sort_interval: u64,
     times: StageTimes,
     pool: std::sync::Arc<rayon::ThreadPool>,
 }
@@ -115,6 +117,7 @@ impl World {
             motion: Vec::new(),
             dissipated_chunks: Vec::new(),
             forces_current: false,
+            sort_interval: space_order::SORT_INTERVAL,
             times: StageTimes::default(),
             pool,
         })
@@ -245,6 +248,12 @@ impl World {
             integrate::motion::pack(&self.bodies, &mut self.motion);
             self.update_forces(0.0, None);
         }
+        if self.sort_interval > 0
+            && self.steps_done % self.sort_interval == 0
+            && self.bodies.len() >= space_order::SORT_MIN_BODIES
+        {
+            self.sort_bodies_in_space();
+        }
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
         integrate::kick_drift(&mut self.bodies, self.gravity, dt, &mut self.motion);
@@ -264,6 +273,30 @@ impl World {
         clock.lap(&mut self.times.other);
         self.time += dt;
         self.steps_done += 1;
+    }
+
+    /// Renumbers the bodies along a space-filling curve (see `step::space_order`), with their
+    /// forces and contacts, so that neighbours in space are neighbours in memory. The world does
+    /// this itself every [`World::set_sort_interval`] steps once it has
+    /// [`space_order::SORT_MIN_BODIES`] bodies: body indices are then not stable, body ids are.
+    pub fn sort_bodies_in_space(&mut self) {
+        let mut order = Vec::new();
+        space_order::morton_order(&self.bodies.position, &mut order);
+        let mut new_index = vec![0u32; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        self.bodies.permute(&order);
+        self.contacts.permute(&new_index);
+        // The broad phase's lists name bodies by index: it starts afresh, and its first list
+        // carries the contacts' histories over.
+        self.search.invalidate();
+    }
+
+    /// Steps between two automatic [`World::sort_bodies_in_space`] (0: never; by default
+    /// [`space_order::SORT_INTERVAL`]).
+    pub fn set_sort_interval(&mut self, steps: u64) {
+        self.sort_interval = steps;
     }
 
     /// Puts the moving mesh walls where they are at time `t`.

@@ -15,6 +15,7 @@
 use super::key::{ContactKey, PairKind, Partner};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::contact_law::{History, OverlapVolume, Response};
+use crate::math::permute_in_place;
 use crate::narrow_phase::{ContactPoint, Geometry};
 
 /// A body and a partner that may touch before the next neighbour search.
@@ -246,6 +247,71 @@ impl ContactStore {
         self.incoming.clear();
         self.wall_entries.clear();
         lost
+    }
+
+    /// After the bodies were put in a new order (`new_index[old] = new`, see
+    /// `step::space_order`): renumbers the entries and sorts them again. A body pair keeps its
+    /// lower index as `a`, so a pair whose order turned is seen from its other side: its normal,
+    /// tangential spring, rolling torque, force and moments change sign. Nothing else changes; the
+    /// per-body index lists are stale until the next [`ContactStore::set_candidates`].
+    pub fn permute(&mut self, new_index: &[u32]) {
+        let e = &mut self.entries;
+        let mut order: Vec<(ContactKey, u32)> = Vec::with_capacity(e.key.len());
+        for k in 0..e.key.len() {
+            let key = e.key[k];
+            let a = new_index[key.a as usize];
+            let key = match key.partner {
+                Partner::Body(j) if new_index[j as usize] < a => {
+                    let g = &mut e.geometry[k];
+                    g.normal = -g.normal;
+                    let h = &mut e.history[k];
+                    h.tangential_spring = -h.tangential_spring;
+                    h.rolling_torque = -h.rolling_torque;
+                    let r = &mut self.response[k];
+                    r.force = -r.force;
+                    r.torque = -r.torque;
+                    if let Some(Some(v)) = self.volume.get_mut(k) {
+                        v.couple = -v.couple;
+                    }
+                    ContactKey {
+                        a: new_index[j as usize],
+                        partner: Partner::Body(a),
+                        ..key
+                    }
+                }
+                Partner::Body(j) => ContactKey {
+                    a,
+                    partner: Partner::Body(new_index[j as usize]),
+                    ..key
+                },
+                wall => ContactKey {
+                    a,
+                    partner: wall,
+                    ..key
+                },
+            };
+            order.push((key, k as u32));
+        }
+        order.sort_unstable();
+        let from: Vec<u32> = order.iter().map(|&(_, k)| k).collect();
+        let done = &mut Vec::new();
+        for (slot, &(key, _)) in e.key.iter_mut().zip(&order) {
+            *slot = key;
+        }
+        drop(order);
+        permute_in_place(&mut e.kind, &from, done);
+        permute_in_place(&mut e.touching, &from, done);
+        permute_in_place(&mut e.geometry, &from, done);
+        permute_in_place(&mut e.history, &from, done);
+        permute_in_place(&mut self.response, &from, done);
+        if !self.volume.is_empty() {
+            permute_in_place(&mut self.volume, &from, done);
+        }
+        self.regional.clear();
+        self.own.clear();
+        self.incoming_first.clear();
+        self.incoming.clear();
+        self.wall_entries.clear();
     }
 
     /// Number of entries (candidate contacts).

@@ -14,6 +14,7 @@
 pub mod candidates;
 pub mod detect;
 pub mod forces;
+pub mod space_order;
 pub mod spheres;
 pub mod timing;
 pub mod wall_loads;
