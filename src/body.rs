@@ -4,13 +4,12 @@
 //! quantity contiguous lets those loops vectorise and split across threads without gathering.
 //! Index `i` in every array is the same body. Bodies never move between indices during a step.
 
+use crate::material::MaterialId;
 use crate::math::{permute_in_place, DQuat, DVec3};
 use crate::shape::Shape;
 
 /// Index of a shape in the world's shape table (bodies of equal shape share one entry).
 pub type ShapeId = u32;
-/// Index of a material in the world's material table.
-pub type MaterialId = u32;
 
 /// Everything needed to add one body to the world.
 #[derive(Clone, Debug)]

@@ -2,6 +2,9 @@
 
 use crate::contact_law::{restitution, NormalLaw, PairLaw};
 
+/// Index of a material in the world's material table (bodies and walls name their material so).
+pub type MaterialId = u32;
+
 /// Bulk properties of a material, as a user gives them in the scene file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {

@@ -1,7 +1,6 @@
 //! The simulated world: its state, how it is built and changed, and its time step.
 
 use crate::body::{Bodies, BodyInit};
-use crate::broad_phase;
 use crate::contact::ContactStore;
 use crate::contact_law::PolyhedralLaw;
 use crate::energy::EnergyReport;
@@ -17,48 +16,40 @@ use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
 use rayon::prelude::*;
 
-/// Everything about a world except its bodies.
-pub struct WorldConfig {
-    pub time_step: f64,
-    pub gravity: DVec3,
-    pub materials: Vec<Material>,
-    pub pair_laws: PairTable,
-    pub planes: Vec<Plane>,
-    pub broad_phase: broad_phase::Method,
-    /// Extra distance [m] by which the broad phase's boxes are enlarged so that its pair list
-    /// can be reused over several steps; `None` picks a default from the body sizes
-    /// ([`World::default_skin`]).
-    pub skin: Option<f64>,
-    /// Worker threads for the parallel loops (0: one per core).
-    pub threads: usize,
-}
+mod config;
+mod view;
 
+pub use config::WorldConfig;
+
+/// A world: bodies, walls and contacts with their history, the time, and the step that advances
+/// them. Built complete by [`World::new`] (and the `with_*` parts that a world may lack: mesh
+/// walls, flow meters, a domain); read through the methods of `world/view.rs`.
 pub struct World {
-    pub time: f64,
-    pub steps_done: u64,
-    pub time_step: f64,
-    pub gravity: DVec3,
-    pub bodies: Bodies,
-    pub shapes: Vec<Shape>,
-    pub materials: Vec<Material>,
-    pub pair_laws: PairTable,
-    pub planes: Vec<Plane>,
+    time: f64,
+    steps_done: u64,
+    time_step: f64,
+    gravity: DVec3,
+    bodies: Bodies,
+    shapes: Vec<Shape>,
+    materials: Vec<Material>,
+    pair_laws: PairTable,
+    planes: Vec<Plane>,
     /// Triangle-mesh walls, fixed or moving.
-    pub mesh_walls: Vec<MeshWall>,
+    mesh_walls: Vec<MeshWall>,
     /// Energy taken out by damping, sliding and rolling resistance since the start [J].
-    pub dissipated: f64,
+    dissipated: f64,
     /// Bodies whose centre leaves this box are removed (an open boundary); `None`: never.
-    pub domain: Option<Aabb>,
+    domain: Option<Aabb>,
     /// The contact law of polyhedra (volume law by default).
-    pub polyhedral_law: PolyhedralLaw,
+    polyhedral_law: PolyhedralLaw,
     /// Kinetic and potential energy brought in by bodies inserted during the run [J].
-    pub energy_inserted: f64,
+    energy_inserted: f64,
     /// Kinetic, potential and contact energy carried out by removed bodies [J].
-    pub energy_removed: f64,
+    energy_removed: f64,
     /// Bodies removed so far.
-    pub bodies_removed: u64,
+    bodies_removed: u64,
     /// Counters of the mass that crosses a plane or leaves a region.
-    pub flow_meters: Vec<FlowMeter>,
+    flow_meters: Vec<FlowMeter>,
     /// Every contact, with bodies and walls alike, and its history.
     contacts: ContactStore,
     /// Impulses on the walls and the work of moving walls.
@@ -121,6 +112,32 @@ impl World {
             times: StageTimes::default(),
             pool,
         })
+    }
+
+    /// The world with these triangle-mesh walls (fixed or moving).
+    pub fn with_mesh_walls(mut self, walls: Vec<MeshWall>) -> Self {
+        self.mesh_walls = walls;
+        self.structure_changed();
+        self
+    }
+
+    /// The world with this contact law for polyhedra (the volume law by default).
+    pub fn with_polyhedral_law(mut self, law: PolyhedralLaw) -> Self {
+        self.polyhedral_law = law;
+        self.structure_changed();
+        self
+    }
+
+    /// The world with these flow meters.
+    pub fn with_flow_meters(mut self, meters: Vec<FlowMeter>) -> Self {
+        self.flow_meters = meters;
+        self
+    }
+
+    /// The world with an open boundary: bodies whose centre leaves `domain` are removed.
+    pub fn with_domain(mut self, domain: Aabb) -> Self {
+        self.domain = Some(domain);
+        self
     }
 
     /// Adds a body while setting up; its id is its insertion number. Returns the body's index.
@@ -215,11 +232,6 @@ impl World {
     /// little, large enough that the list lasts many steps at the speeds DEM time steps allow.
     pub fn default_skin(smallest_radius: f64) -> f64 {
         0.2 * smallest_radius
-    }
-
-    /// The skin distance in use [m].
-    pub fn skin(&self) -> f64 {
-        self.search.skin()
     }
 
     /// Advances the world by one time step.
@@ -370,21 +382,6 @@ impl World {
         );
     }
 
-    /// Every contact of the world (bodies with bodies, planes and mesh walls) and its history.
-    pub fn contacts(&self) -> &ContactStore {
-        &self.contacts
-    }
-
-    /// Impulses on the walls since the start and the work of moving walls.
-    pub fn wall_loads(&self) -> &WallLoads {
-        &self.wall_loads
-    }
-
-    /// Times the neighbour search has made its candidate list (for diagnostics and tests).
-    pub fn pair_rebuilds(&self) -> u64 {
-        self.search.rebuilds
-    }
-
     /// The energy ledger at the current state.
     pub fn energy(&self) -> EnergyReport {
         let world = self;
@@ -410,15 +407,5 @@ impl World {
             report.elastic += c.response.elastic_energy;
         }
         report
-    }
-
-    /// Wall-clock time spent in each stage of the step since the world was built.
-    pub fn stage_times(&self) -> &StageTimes {
-        &self.times
-    }
-
-    /// Number of threads the world's parallel loops use.
-    pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
     }
 }

@@ -163,15 +163,15 @@ fn a_scene_builds_a_particle_from_a_mesh_beside_it() {
         ))
         .unwrap();
         let world = &prepared.world;
-        assert_eq!(world.bodies.len(), 1);
-        let shape = &world.shapes[world.bodies.shape[0] as usize];
+        assert_eq!(world.bodies().len(), 1);
+        let shape = &world.shapes()[world.bodies().shape[0] as usize];
         let Shape::Convex(p) = shape else {
             panic!("{file}: not a polyhedron")
         };
         assert!(close(p.unit_mass_properties().volume, 8e-9, 1e-9));
-        assert!(close(world.bodies.mass[0], 2500.0 * 8e-9, 1e-9));
+        assert!(close(world.bodies().mass[0], 2500.0 * 8e-9, 1e-9));
         // The file's origin is placed at `position`: the centre of mass is half an edge away.
-        assert!((world.bodies.position[0] - DVec3::splat(0.001)).length() < 1e-12);
+        assert!((world.bodies().position[0] - DVec3::splat(0.001)).length() < 1e-12);
     }
 }
 
@@ -187,7 +187,7 @@ fn a_scene_reports_mesh_errors_with_scene_line_key_and_mesh_file() {
     let hull =
         scene("type = \"mesh\"\nfile = \"l_shape.stl\"\nconvex_hull = true\nscale = 0.01").unwrap();
     let w = &hull.world;
-    assert!(close(w.bodies.mass[0], 2500.0 * 3.5e-6, 1e-9));
+    assert!(close(w.bodies().mass[0], 2500.0 * 3.5e-6, 1e-9));
 
     let e = refused("type = \"mesh\"\nfile = \"nothere.stl\"");
     assert!(e.starts_with("tests/data/scene.toml:15: [shape.grain] file: cannot read mesh file 'tests/data/nothere.stl'"), "{e}");
@@ -285,5 +285,5 @@ region_max = [0.01, 0.01, 0.01]
         .unwrap()
         .build()
         .unwrap();
-    assert_eq!(prepared.world.bodies.len(), 8);
+    assert_eq!(prepared.world.bodies().len(), 8);
 }

@@ -65,7 +65,7 @@ fn resting_sphere_sees_the_plane_whatever_the_triangulation() {
         w.run_steps(50_000);
         assert_eq!(wall_contact_count(&w), 1, "{cells} cells: one contact");
         let (f, f0) = (normal_force(&w), normal_force(&reference));
-        let (z, z0) = (w.bodies.position[0].z, reference.bodies.position[0].z);
+        let (z, z0) = (w.bodies().position[0].z, reference.bodies().position[0].z);
         println!(
             "{} triangles: F = {f:.9e} N (plane {f0:.9e}), z = {z:.12e} (plane {z0:.12e})",
             2 * cells * cells
@@ -93,20 +93,20 @@ fn sliding_and_rolling_across_triangles_match_the_plane() {
             worst_spike = worst_spike.max((f / f0 - 1.0).abs());
         }
     }
-    let x0 = reference.bodies.position[0];
+    let x0 = reference.bodies().position[0];
     for (w, cells) in meshes.iter().zip([1, 10]) {
-        let x = w.bodies.position[0];
+        let x = w.bodies().position[0];
         println!(
             "{} triangles: travelled {:.9e} m (plane {:.9e}), v = {:?}",
             2 * cells * cells,
             x.x + 0.05,
             x0.x + 0.05,
-            w.bodies.velocity[0]
+            w.bodies().velocity[0]
         );
         // The same force history as on the plane, so the same path: within 1 %, in fact to
         // round-off.
         assert!(((x.x + 0.05) / (x0.x + 0.05) - 1.0).abs() < 1e-9);
-        assert!((w.bodies.velocity[0] - reference.bodies.velocity[0]).length() < 1e-9);
+        assert!((w.bodies().velocity[0] - reference.bodies().velocity[0]).length() < 1e-9);
     }
     // The normal force, sampled every 500 steps while the sphere crosses edges and vertices,
     // equals the plane's: a spike at an edge would show here.
@@ -150,12 +150,12 @@ velocity = [2.0, -1.5, 1.0]
         .build()
         .unwrap();
     let w = &mut p.world;
-    let steps = (0.3 / w.time_step) as u64;
+    let steps = (0.3 / w.time_step()) as u64;
     let mut wall_hits = 0;
     for _ in 0..100 {
         w.run_steps(steps / 100);
         wall_hits += w.contacts().with_mesh_walls().count();
-        for x in &w.bodies.position {
+        for x in &w.bodies().position {
             assert!(
                 x.cmpgt(DVec3::ZERO).all() && x.cmplt(DVec3::splat(0.05)).all(),
                 "a sphere left the box: {x:?}"
@@ -164,5 +164,5 @@ velocity = [2.0, -1.5, 1.0]
     }
     // At 2.7 m/s the spheres cross the 5 cm box in ~20 ms: they hit the walls many times.
     assert!(wall_hits > 50, "only {wall_hits} wall contacts seen");
-    assert_eq!(w.bodies.len(), 60);
+    assert_eq!(w.bodies().len(), 60);
 }

@@ -63,8 +63,8 @@ fn world(
         friction: MU,
         rolling_friction: 0.0,
     };
-    let mut w = common::world_on_floor(material, floor, contact_duration() / 50.0);
-    w.polyhedral_law = law;
+    let mut w =
+        common::world_on_floor(material, floor, contact_duration() / 50.0).with_polyhedral_law(law);
     let (cube, _) = generators::cuboid(EDGE, EDGE, EDGE).unwrap();
     w.add_body(BodyInit {
         shape: Shape::Convex(Arc::new(cube)),
@@ -90,7 +90,7 @@ struct Bounce {
 
 fn bounce(w: &mut World) -> Bounce {
     let mut before = None;
-    let mut last_free = w.bodies.velocity[0];
+    let mut last_free = w.bodies().velocity[0];
     for _ in 0..20_000 {
         w.step();
         let touching = wall_contacts(w) > 0;
@@ -99,14 +99,14 @@ fn bounce(w: &mut World) -> Bounce {
             (false, Some(before)) => {
                 return Bounce {
                     before,
-                    after: w.bodies.velocity[0],
-                    spin_after: w.bodies.angular_velocity[0],
+                    after: w.bodies().velocity[0],
+                    spin_after: w.bodies().angular_velocity[0],
                 }
             }
             _ => {}
         }
         if !touching {
-            last_free = w.bodies.velocity[0];
+            last_free = w.bodies().velocity[0];
         }
     }
     panic!("the cube did not come off the floor");
@@ -235,8 +235,8 @@ fn sliding_cube_decelerates_at_mu_g_on_a_mesh() {
             let steps = (0.8 * t_stop / dt) as usize;
             for _ in 0..steps {
                 w.step();
-                if w.time > 0.1 * t_stop {
-                    samples.push((w.time, w.bodies.velocity[0].dot(dir)));
+                if w.time() > 0.1 * t_stop {
+                    samples.push((w.time(), w.bodies().velocity[0].dot(dir)));
                 }
                 assert_eq!(wall_contacts(&w), 1, "{floor:?}: one contact");
             }
@@ -325,7 +325,7 @@ seed = 2
             .build()
             .unwrap();
         let w = &mut p.world;
-        assert_eq!(w.bodies.len(), 12);
+        assert_eq!(w.bodies().len(), 12);
         let mut rng = SplitMix64::new(99);
         let (mut wall_contacts, mut deepest) = (0usize, 0.0f64);
         for _ in 0..400 {
@@ -393,8 +393,8 @@ velocity = [0.4, -0.3, -1.0]
         p.world.run_steps(6000);
         let contacts = p.world.contacts().with_mesh_walls().count();
         (
-            p.world.bodies.position.clone(),
-            p.world.bodies.orientation.clone(),
+            p.world.bodies().position.clone(),
+            p.world.bodies().orientation.clone(),
             contacts,
         )
     };

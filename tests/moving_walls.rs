@@ -83,13 +83,13 @@ fn belt_accelerates_a_sphere_to_two_sevenths_of_its_speed() {
     belt.motion = WallMotion::fixed()
         .with_surface_velocity(DVec3::new(u, 0.0, 0.0))
         .unwrap();
-    w.mesh_walls.push(belt);
+    w = w.with_mesh_walls(vec![belt]);
     // Resting on the belt (the static overlap of the Hertz law is a few µm).
     let i = sphere_at(&mut w, DVec3::new(-0.08, 0.0, RADIUS - 1.6e-6));
     let e0 = w.energy().total();
     let t_roll = 2.0 * u / (7.0 * mu * G);
-    w.run_steps((1.6 * t_roll / w.time_step) as u64);
-    let v = w.bodies.velocity[i];
+    w.run_steps((1.6 * t_roll / w.time_step()) as u64);
+    let v = w.bodies().velocity[i];
     assert!(
         (v.x - 2.0 * u / 7.0).abs() < 0.01 * 2.0 * u / 7.0,
         "final speed {} vs 2u/7 = {}",
@@ -98,7 +98,7 @@ fn belt_accelerates_a_sphere_to_two_sevenths_of_its_speed() {
     );
     assert!(v.y.abs() < 1e-6 && v.z.abs() < 1e-3);
     // Rolling without slip on the belt: contact point speed = belt speed.
-    let omega = w.bodies.angular_velocity[i];
+    let omega = w.bodies().angular_velocity[i];
     let contact_speed = v.x - omega.y * RADIUS;
     assert!((contact_speed - u).abs() < 0.01 * u, "{contact_speed}");
     // The belt did work: kinetic energy gained plus friction losses.
@@ -128,19 +128,19 @@ fn turntable_carries_a_resting_sphere_with_the_floor() {
         .with_rotation(DVec3::ZERO, DVec3::Z, rpm)
         .unwrap();
     let z_floor = drum.bounds().min.z;
-    w.mesh_walls.push(drum);
+    w = w.with_mesh_walls(vec![drum]);
     let r0 = 0.05;
     let i = sphere_at(&mut w, DVec3::new(r0, 0.0, z_floor + RADIUS - 1.6e-6));
-    w.run_steps((1.5 / w.time_step) as u64);
-    let x = w.bodies.position[i];
-    let v = w.bodies.velocity[i];
+    w.run_steps((1.5 / w.time_step()) as u64);
+    let x = w.bodies().position[i];
+    let v = w.bodies().velocity[i];
     let carried = DVec3::Z.cross(x) * omega;
     assert!(
         (v - carried).length() < 0.01 * carried.length(),
         "velocity {v} vs floor's {carried}"
     );
     // No rolling relative to the floor (the spin about the vertical, a twist, is free).
-    let spin = w.bodies.angular_velocity[i];
+    let spin = w.bodies().angular_velocity[i];
     assert!(spin.truncate().length() < 0.01 * omega, "spin {spin}");
     // It stays on its circle.
     let r = x.truncate().length();
@@ -172,13 +172,15 @@ fn shaken_closed_box_keeps_its_contents() {
         ));
     }
     cage.motion = WallMotion::fixed().with_velocity_table(table).unwrap();
-    w.mesh_walls.push(cage);
+    w = w.with_mesh_walls(vec![cage]);
     let i = sphere_at(&mut w, DVec3::ZERO);
     let mut deepest: f64 = 0.0;
     let mut hits = 0usize;
     for _ in 0..2000 {
         w.run_steps(100);
-        let inside = w.mesh_walls[0].pose().to_reference(w.bodies.position[i]);
+        let inside = w.mesh_walls()[0]
+            .pose()
+            .to_reference(w.bodies().position[i]);
         // Distance of the sphere's surface beyond the nearest wall (negative: clear of it).
         let beyond = (inside.abs() + RADIUS - hi).max_element();
         deepest = deepest.max(beyond);
@@ -198,19 +200,19 @@ fn shaken_closed_box_keeps_its_contents() {
 #[test]
 fn wall_impulse_gives_the_weight_of_a_resting_sphere() {
     let mut w = world(0.3, 0.0);
-    w.mesh_walls.push(floor(3));
+    w = w.with_mesh_walls(vec![floor(3)]);
     let i = sphere_at(&mut w, DVec3::new(0.03, -0.02, RADIUS));
     w.run_steps(50_000);
     let (j0, h0, t0) = (
         w.wall_loads().impulse[0],
         w.wall_loads().angular_impulse[0],
-        w.time,
+        w.time(),
     );
     w.run_steps(20_000);
-    let span = w.time - t0;
+    let span = w.time() - t0;
     let force = (w.wall_loads().impulse[0] - j0) / span;
     let torque = (w.wall_loads().angular_impulse[0] - h0) / span;
-    let weight = DVec3::new(0.0, 0.0, -w.bodies.mass[i] * G);
+    let weight = DVec3::new(0.0, 0.0, -w.bodies().mass[i] * G);
     assert!(
         (force - weight).length() < 1e-4 * weight.length(),
         "{force}"
@@ -240,7 +242,7 @@ fn drum_carries_a_resting_cube_with_its_surface_velocity() {
     drum.motion = WallMotion::fixed()
         .with_rotation(DVec3::ZERO, DVec3::Z, rpm)
         .unwrap();
-    w.mesh_walls.push(drum);
+    w = w.with_mesh_walls(vec![drum]);
     let edge = 0.01;
     let (cube, _) = shapes::cuboid(edge, edge, edge).unwrap();
     // On the flat facet at the bottom (the facets' inscribed radius), touching it.
@@ -254,15 +256,15 @@ fn drum_carries_a_resting_cube_with_its_surface_velocity() {
         angular_velocity: DVec3::ZERO,
     });
     // 0.3 s: the drum has turned 18°, short of the 31° at which the cube would slide.
-    w.run_steps((0.3 / w.time_step) as u64);
-    let x = w.bodies.position[i];
+    w.run_steps((0.3 / w.time_step()) as u64);
+    let x = w.bodies().position[i];
     let carried = DVec3::Z.cross(x) * omega;
-    let v = w.bodies.velocity[i];
+    let v = w.bodies().velocity[i];
     assert!(
         (v - carried).length() < 0.01 * carried.length(),
         "velocity {v} vs drum surface {carried}"
     );
-    let spin = w.bodies.angular_velocity[i];
+    let spin = w.bodies().angular_velocity[i];
     assert!(
         (spin - DVec3::Z * omega).length() < 0.01 * omega,
         "spin {spin} vs {omega}"
@@ -286,16 +288,16 @@ fn a_moving_wall_reaches_a_body_far_beyond_the_skin() {
     wall.motion = WallMotion::fixed()
         .with_velocity(DVec3::new(0.0, 0.0, u))
         .unwrap();
-    w.mesh_walls.push(wall);
+    w = w.with_mesh_walls(vec![wall]);
     let i = sphere_at(&mut w, DVec3::new(0.01, 0.02, 0.01));
     assert!(w.skin() < 0.2 * 0.01, "the sphere starts beyond the skin");
     let mut deepest: f64 = 0.0;
     for _ in 0..100 {
         w.run_steps(100); // 20 ms in all
-        let floor_z = u * w.time;
-        deepest = deepest.max(floor_z - (w.bodies.position[i].z - RADIUS));
+        let floor_z = u * w.time();
+        deepest = deepest.max(floor_z - (w.bodies().position[i].z - RADIUS));
     }
-    let v = w.bodies.velocity[i];
+    let v = w.bodies().velocity[i];
     assert!(
         (v.z - 1.5 * u).abs() < 0.05 * u && v.x.abs() < 1e-9 && v.y.abs() < 1e-9,
         "the sphere left at {v}, expected (0, 0, {})",

@@ -82,13 +82,13 @@ rotation = [{rx}, {ry}, {rz}]
     );
     let mut p = build(&text);
     let w = &mut p.world;
-    w.run_steps((0.6 / w.time_step) as u64);
+    w.run_steps((0.6 / w.time_step()) as u64);
     let pair: Vec<_> = w
         .contacts()
         .iter()
         .filter(|c| (c.key.a, c.key.partner) == (0, Partner::Body(1)))
         .collect();
-    let weight = w.bodies.mass[1] * 9.81;
+    let weight = w.bodies().mass[1] * 9.81;
     for c in &pair {
         println!(
             "slot {} at {:.5?}: normal {:.3?}, normal force {:.4e} N",
@@ -128,7 +128,7 @@ rotation = [{rx}, {ry}, {rz}]
     let mut later = build(&text);
     later
         .world
-        .run_steps(((0.6 + 0.05) / later.world.time_step) as u64);
+        .run_steps(((0.6 + 0.05) / later.world.time_step()) as u64);
     for c in later
         .world
         .contacts()
@@ -149,7 +149,7 @@ rotation = [{rx}, {ry}, {rz}]
         (on_upper - DVec3::Z * weight).length() < 1e-3 * weight,
         "{on_upper}"
     );
-    assert!(w.bodies.velocity[1].length() < 1e-5);
+    assert!(w.bodies().velocity[1].length() < 1e-5);
 
     // The force network: one line per contact, the pair's two bent at their contact points.
     let dir = tempfile::tempdir().unwrap();
@@ -201,16 +201,17 @@ rotation = {rotation:?}
         );
         let mut p = build(&text);
         let w = &mut p.world;
-        w.run_steps((1.0 / w.time_step) as u64);
-        let speed = w.bodies.velocity[0].length() + w.bodies.angular_velocity[0].length() * 0.02;
+        w.run_steps((1.0 / w.time_step()) as u64);
+        let speed =
+            w.bodies().velocity[0].length() + w.bodies().angular_velocity[0].length() * 0.02;
         assert!(speed < 1e-5, "case {k}: still moving, {speed:e} m/s");
         let margin = stability_margin(w, 0);
         println!("case {k}: centre of mass {margin:.4e} m inside the support polygon");
         assert!(margin > 1e-3, "case {k}: margin {margin:e}");
-        let before = (w.bodies.position[0], w.bodies.orientation[0]);
-        w.run_steps((0.3 / w.time_step) as u64);
-        let moved = (w.bodies.position[0] - before.0).length();
-        let turned = w.bodies.orientation[0].angle_between(before.1);
+        let before = (w.bodies().position[0], w.bodies().orientation[0]);
+        w.run_steps((0.3 / w.time_step()) as u64);
+        let moved = (w.bodies().position[0] - before.0).length();
+        let turned = w.bodies().orientation[0].angle_between(before.1);
         assert!(
             moved < 1e-7 && turned < 1e-5,
             "case {k}: drifted {moved:e} m, {turned:e} rad"
@@ -221,10 +222,10 @@ rotation = {rotation:?}
 /// How far the body's centre of mass lies inside the convex polygon of its corners touching the
 /// floor (z below 10 µm), seen from above; negative outside.
 fn stability_margin(w: &World, body: usize) -> f64 {
-    let Shape::NonConvex(p) = &w.shapes[w.bodies.shape[body] as usize] else {
+    let Shape::NonConvex(p) = &w.shapes()[w.bodies().shape[body] as usize] else {
         panic!("a non-convex body")
     };
-    let (x, q) = (w.bodies.position[body], w.bodies.orientation[body]);
+    let (x, q) = (w.bodies().position[body], w.bodies().orientation[body]);
     let mut touching: Vec<[f64; 2]> = p
         .vertices()
         .iter()
@@ -277,7 +278,7 @@ fn convex_hull_2d(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// mean height is H/4 and its mean distance from the axis R/2, so tan θ = H/R = 2 z̄ / r̄, taken
 /// over the body centres (heights above the floor, distances from their mean axis).
 fn heap_angle(w: &World) -> f64 {
-    let b = &w.bodies;
+    let b = w.bodies();
     let n = b.len() as f64;
     let centre: DVec3 = b.position.iter().sum::<DVec3>() / n;
     let height = b.position.iter().map(|x| x.z).sum::<f64>() / n;
@@ -342,9 +343,11 @@ until = {until}
         .enumerate()
     {
         let mut p = build(&pour(particle));
-        while p.world.time < duration {
+        while p.world.time() < duration {
             let next = p.next_insertion_time().unwrap_or(duration).min(duration);
-            let steps = ((next - p.world.time) / p.world.time_step).ceil().max(1.0) as u64;
+            let steps = ((next - p.world.time()) / p.world.time_step())
+                .ceil()
+                .max(1.0) as u64;
             p.world.run_steps(steps);
             p.insert_due();
         }
@@ -353,7 +356,7 @@ until = {until}
         angles[k] = heap_angle(w);
         println!(
             "{particle}: {} bodies, heap angle {:.1}°, kinetic energy {kinetic:.2e} J",
-            w.bodies.len(),
+            w.bodies().len(),
             angles[k]
         );
     }
@@ -428,17 +431,17 @@ rotation = {rotation:?}
     for parts in [false, true] {
         let mut p = build(&scene(parts, 0.3, 0.02, [0.35, 0.25, 0.4]));
         let w = &mut p.world;
-        w.run_steps((0.8 / w.time_step) as u64);
-        let up = w.bodies.orientation[0].inverse() * DVec3::Z;
-        let speed = w.bodies.velocity[0].length();
+        w.run_steps((0.8 / w.time_step()) as u64);
+        let up = w.bodies().orientation[0].inverse() * DVec3::Z;
+        let speed = w.bodies().velocity[0].length();
         println!(
             "parts = {parts}: at rest {speed:.1e} m/s, centre at height {:.6} m, up in the body \
              {:.4?}",
-            w.bodies.position[0].z,
+            w.bodies().position[0].z,
             up.to_array()
         );
         assert!(speed < 1e-5);
-        poses.push((w.bodies.position[0].z, up));
+        poses.push((w.bodies().position[0].z, up));
     }
     let ((z0, up0), (z1, up1)) = (poses[0], poses[1]);
     assert!(up0.angle_between(up1) < 0.01, "{up0} vs {up1}");
@@ -453,14 +456,14 @@ rotation = {rotation:?}
         let w = &mut p.world;
         let mut touched = false;
         let mut apex = 0.0f64;
-        while w.time < 0.25 {
+        while w.time() < 0.25 {
             w.run_steps(1);
-            let z = w.bodies.position[0].z - 0.003;
+            let z = w.bodies().position[0].z - 0.003;
             if w.contacts().with_planes().next().is_some() {
                 touched = true;
             } else if touched {
                 apex = apex.max(z);
-                if w.bodies.velocity[0].z < 0.0 {
+                if w.bodies().velocity[0].z < 0.0 {
                     break;
                 }
             }
@@ -554,7 +557,7 @@ seed = 7
     let mut two = build(&scene(2)).world;
     assert_eq!((one.threads(), two.threads()), (1, 2));
     let state = |w: &World| -> Vec<u64> {
-        let b = &w.bodies;
+        let b = w.bodies();
         (0..b.len())
             .flat_map(|i| {
                 [b.position[i], b.velocity[i], b.angular_momentum[i]]
@@ -569,7 +572,7 @@ seed = 7
     for _ in 0..60 {
         one.run_steps(100);
         two.run_steps(100);
-        assert_eq!(state(&one), state(&two), "at t = {}", one.time);
+        assert_eq!(state(&one), state(&two), "at t = {}", one.time());
         assert_eq!(
             one.energy().total().to_bits(),
             two.energy().total().to_bits()
@@ -579,7 +582,7 @@ seed = 7
     }
     println!(
         "t = {:.3} s: {} contacts, at most {most} between bodies, {regional} in slots > 0",
-        one.time,
+        one.time(),
         one.contacts().between_bodies().count() + one.contacts().with_planes().count()
     );
     // The comparison means something only if the bodies met each other on the way.

@@ -81,7 +81,7 @@ fn a_good_mesh_becomes_a_non_convex_particle_with_a_note_on_welding() {
     write(dir.path(), "l.stl", &v, &t);
     let p = scene(dir.path(), &mesh_keys("l.stl", "")).unwrap();
     let w = &p.world;
-    let Shape::NonConvex(shape) = &w.shapes[w.bodies.shape[0] as usize] else {
+    let Shape::NonConvex(shape) = &w.shapes()[w.bodies().shape[0] as usize] else {
         panic!("not a non-convex particle")
     };
     // (2 × 0.6 + 0.6 × 0.6) × 0.5 = 0.78 file units³, scaled by 0.01³.
@@ -223,7 +223,7 @@ fn convex_parts_must_fill_the_mesh() {
     )
     .unwrap();
     let w = &p.world;
-    let Shape::NonConvex(shape) = &w.shapes[0] else {
+    let Shape::NonConvex(shape) = &w.shapes()[0] else {
         panic!()
     };
     assert_eq!(shape.parts().len(), 2);

@@ -51,14 +51,14 @@ fn drop_a_jack(floor: Floor) -> World {
 #[test]
 fn a_jack_dropped_on_a_mesh_floor_moves_as_on_the_plane() {
     let reference = drop_a_jack(Floor::Plane);
-    let x0 = reference.bodies.position[0];
-    let q0 = reference.bodies.orientation[0];
+    let x0 = reference.bodies().position[0];
+    let q0 = reference.bodies().orientation[0];
     // It has landed and stays on the floor, resting on arm ends (centre at 10 mm or lower).
     assert!(x0.z > 0.0 && x0.z < 0.011, "{x0}");
-    assert!(reference.bodies.velocity[0].length() < 0.05);
+    assert!(reference.bodies().velocity[0].length() < 0.05);
     for cells in [1, 10] {
         let w = drop_a_jack(Floor::Mesh(cells));
-        let (x, q) = (w.bodies.position[0], w.bodies.orientation[0]);
+        let (x, q) = (w.bodies().position[0], w.bodies().orientation[0]);
         assert!(
             (x - x0).length() < 1e-6,
             "{cells}² cells: centre {x} vs {x0} on the plane"
@@ -122,7 +122,7 @@ seed = 1
         .build()
         .unwrap();
     let w = &mut p.world;
-    assert_eq!(w.bodies.len(), 6);
+    assert_eq!(w.bodies().len(), 6);
     let mut rng = SplitMix64::new(7);
     let (mut wall_contacts, mut deepest) = (0usize, 0.0f64);
     for _ in 0..300 {

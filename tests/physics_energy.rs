@@ -147,7 +147,7 @@ fn run(w: &mut World, duration: f64, chunk: u64) -> Run {
     let mut max_drift: f64 = 0.0;
     let mut collisions = 0;
     let mut before = contact_pairs(w);
-    let steps = (duration / w.time_step).round() as u64;
+    let steps = (duration / w.time_step()).round() as u64;
     let mut done = 0;
     while done < steps {
         let n = chunk.min(steps - done);
@@ -169,8 +169,8 @@ fn run(w: &mut World, duration: f64, chunk: u64) -> Run {
 
 /// Lowest gravitational potential the spheres can have: every centre one radius above the floor.
 fn potential_floor(w: &World) -> f64 {
-    (0..w.bodies.len())
-        .map(|i| w.bodies.mass[i] * G * w.bodies.bounding_radius[i])
+    (0..w.bodies().len())
+        .map(|i| w.bodies().mass[i] * G * w.bodies().bounding_radius[i])
         .sum()
 }
 
@@ -254,7 +254,7 @@ fn dissipative_run(steps_per_contact: f64) -> f64 {
         0.5,
     );
     // Lift the spheres 0.1 m so that they fall into the box.
-    for x in &mut w.bodies.position {
+    for x in &mut w.bodies_mut().position {
         x.z += 0.1;
     }
     let result = run(&mut w, 1.5, 20);

@@ -74,7 +74,7 @@ fn measure(w: &mut World, overlap: impl Fn(&World) -> f64) -> (f64, f64, f64) {
             .map(|c| c.response.normal_force)
             .sum::<f64>()
     };
-    let mut samples: Vec<(f64, f64, f64)> = vec![(w.time, overlap(w), contact_force(w))];
+    let mut samples: Vec<(f64, f64, f64)> = vec![(w.time(), overlap(w), contact_force(w))];
     assert!(samples[0].1 < 0.0, "must start apart");
     let mut touched = false;
     for _ in 0..1_000_000 {
@@ -87,7 +87,7 @@ fn measure(w: &mut World, overlap: impl Fn(&World) -> f64) -> (f64, f64, f64) {
             d > 0.0,
             "contact list disagrees with the overlap"
         );
-        samples.push((w.time, d, contact_force(w)));
+        samples.push((w.time(), d, contact_force(w)));
         touched |= in_contact;
         if touched && !in_contact {
             break;
@@ -184,7 +184,7 @@ fn two_spheres(n: f64) -> Errors {
         -axis * (v * m1 / (m1 + m2)),
     ));
     let measured = measure(&mut w, |w| {
-        r1 + r2 - (w.bodies.position[0] - w.bodies.position[1]).length()
+        r1 + r2 - (w.bodies().position[0] - w.bodies().position[1]).length()
     });
     errors(measured, expected)
 }
@@ -207,7 +207,7 @@ fn sphere_on_plane(n: f64) -> Errors {
     let mut w = world(vec![a, b], vec![plane], dt);
     let gap = 5.3 * v * dt;
     w.add_body(sphere(r, 0, point + normal * (r + gap), -normal * v));
-    let measured = measure(&mut w, |w| r - (w.bodies.position[0] - point).dot(normal));
+    let measured = measure(&mut w, |w| r - (w.bodies().position[0] - point).dot(normal));
     errors(measured, expected)
 }
 

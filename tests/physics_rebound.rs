@@ -158,7 +158,7 @@ impl Drop {
             "contact did not end"
         );
         assert!(
-            w.bodies.velocity[0].z > 0.0,
+            w.bodies().velocity[0].z > 0.0,
             "sphere is not moving up after the contact"
         );
 
@@ -167,7 +167,7 @@ impl Drop {
         // near the apex misses it by at most g dt²/8 (< 1e-12 m here).
         let mut apex = f64::MIN;
         loop {
-            let vz = w.bodies.velocity[0].z;
+            let vz = w.bodies().velocity[0].z;
             if vz <= 0.0 {
                 break;
             }
@@ -178,7 +178,7 @@ impl Drop {
                 1
             };
             w.run_steps(n);
-            apex = apex.max(w.bodies.position[0].z - RADIUS);
+            apex = apex.max(w.bodies().position[0].z - RADIUS);
             assert!(
                 w.contacts().with_planes().next().is_none(),
                 "sphere touched the plane during the ascent"
@@ -186,7 +186,7 @@ impl Drop {
         }
         // One more step: it is falling back, i.e. the maximum was the apex.
         w.run_steps(1);
-        assert!(w.bodies.position[0].z - RADIUS < apex);
+        assert!(w.bodies().position[0].z - RADIUS < apex);
         apex / HEIGHT
     }
 

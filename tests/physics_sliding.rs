@@ -137,10 +137,10 @@ fn run(law: NormalLaw, steps_per_period: f64) -> Outcome {
     let total = (2.0 * t_textbook / dt).ceil() as usize;
     let mut samples = Vec::with_capacity(total + 1);
     let sample = |w: &World| {
-        let (v, omega) = (w.bodies.velocity[0], w.bodies.angular_velocity[0]);
+        let (v, omega) = (w.bodies().velocity[0], w.bodies().angular_velocity[0]);
         let contact_velocity = v + omega.cross(-DVec3::Z * arm);
         Sample {
-            t: w.time,
+            t: w.time(),
             v: v.dot(dir),
             omega: omega.dot(axis),
             slip: contact_velocity.dot(dir),

@@ -93,7 +93,7 @@ fn world(threads: usize) -> World {
 
 /// Every number that describes the state, as bits.
 fn state(w: &World) -> Vec<u64> {
-    let b = &w.bodies;
+    let b = w.bodies();
     let mut s = Vec::new();
     for i in 0..b.len() {
         for v in [
@@ -124,8 +124,8 @@ fn state(w: &World) -> Vec<u64> {
 fn rocks_and_cubes_are_bit_identical_for_any_thread_count() {
     let (mut one, mut two) = (world(1), world(2));
     assert_eq!((one.threads(), two.threads()), (1, 2));
-    assert_eq!(one.bodies.len(), 40);
-    let dt = one.time_step;
+    assert_eq!(one.bodies().len(), 40);
+    let dt = one.time_step();
     // 0.15 s: the bodies fall onto the floor and each other (the first impacts come at ~0.01 s)
     // and are piling up, with many contacts, at the end. Compared every 1000 steps.
     let steps = (0.15 / dt).round() as u64;

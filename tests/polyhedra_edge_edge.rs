@@ -85,7 +85,7 @@ fn winkler_force(p: &Prepared) -> f64 {
     let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
     let r_eq = (3.0 * EDGE.powi(3) / (4.0 * PI)).cbrt();
     let k_v = e_star / (0.5 * r_eq);
-    let b = &p.world.bodies;
+    let b = p.world.bodies();
     let depth = |i: usize, x: DVec3| {
         let local = b.orientation[i].inverse() * (x - b.position[i]);
         0.5 * EDGE - local.abs().max_element()
@@ -113,13 +113,13 @@ fn winkler_force(p: &Prepared) -> f64 {
 
 /// Is `point` (world) inside body `i` (a cube of edge EDGE)?
 fn inside_cube(p: &Prepared, i: usize, point: DVec3) -> bool {
-    let b = &p.world.bodies;
+    let b = p.world.bodies();
     let local = b.orientation[i].inverse() * (point - b.position[i]);
     local.abs().max_element() < 0.5 * EDGE
 }
 
 fn cube_vertices(p: &Prepared, i: usize) -> Vec<DVec3> {
-    let b = &p.world.bodies;
+    let b = p.world.bodies();
     let mut v = Vec::new();
     for k in 0..8 {
         let sign = |bit: usize| if k & bit == 0 { -0.5 } else { 0.5 };
@@ -190,9 +190,9 @@ fn crossed_edges_repel_along_the_line_through_them() {
     let w = &mut p.world;
     while w.contacts().between_bodies().next().is_some() {
         w.run_steps(10);
-        assert!(w.time < 0.1, "still in contact after 0.1 s");
+        assert!(w.time() < 0.1, "still in contact after 0.1 s");
     }
-    let b = &w.bodies;
+    let b = w.bodies();
     let (va, vb) = (b.velocity[0], b.velocity[1]);
     println!(
         "after separating: v_A {va:?}, v_B {vb:?}, ω_A {:?}, ω_B {:?}",
@@ -280,7 +280,7 @@ angular_velocity = [{wb0}, {wb1}, {wb2}]
             wb2 = spin_b.z,
         )
     };
-    let auto = build(text(None)).world.time_step;
+    let auto = build(text(None)).world.time_step();
     let mut p = build(text(Some(auto * dt_factor)));
     let w = &mut p.world;
     let kinetic = |w: &polydem::World| {
@@ -296,15 +296,15 @@ angular_velocity = [{wb0}, {wb1}, {wb2}]
             touched = true;
             steps_in_contact += 1;
         } else if touched {
-            let b = &w.bodies;
+            let b = w.bodies();
             let apart = (b.position[1] - b.position[0]).dot(b.velocity[1] - b.velocity[0]) > 0.0;
             if apart {
                 break;
             }
         }
-        assert!(w.time < 0.1, "seed {seed}: no collision");
+        assert!(w.time() < 0.1, "seed {seed}: no collision");
     }
-    assert!(touched && w.dissipated == 0.0, "nothing may dissipate");
+    assert!(touched && w.dissipated() == 0.0, "nothing may dissipate");
     (before, kinetic(w), steps_in_contact)
 }
 

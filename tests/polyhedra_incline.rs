@@ -90,9 +90,9 @@ fn flat_box_sticks_below_the_friction_angle() {
     let theta: f64 = 20.0; // tan θ = 0.364 < μ = 0.5
     let (mut p, down, _) = incline(theta);
     let w = &mut p.world;
-    let dt = w.time_step;
-    let (x0, q0) = (w.bodies.position[0], w.bodies.orientation[0]);
-    let mass = w.bodies.mass[0];
+    let dt = w.time_step();
+    let (x0, q0) = (w.bodies().position[0], w.bodies().orientation[0]);
+    let mass = w.bodies().mass[0];
     // Static elongation of the friction spring.
     let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
     let r_eq = (3.0 * WIDTH * WIDTH * HEIGHT / (4.0 * std::f64::consts::PI)).cbrt();
@@ -100,23 +100,23 @@ fn flat_box_sticks_below_the_friction_angle() {
     let xi = mass * G * theta.to_radians().sin() / (2.0 / 7.0 * k_n);
 
     w.run_steps((0.25 / dt).round() as u64);
-    let x_mid = w.bodies.position[0];
+    let x_mid = w.bodies().position[0];
     w.run_steps((0.25 / dt).round() as u64);
-    let x_end = w.bodies.position[0];
+    let x_end = w.bodies().position[0];
     let along = (x_end - x0).dot(down);
     let creep = (x_end - x_mid).length();
-    let turn = turn_angle(w.bodies.orientation[0] * q0.inverse());
+    let turn = turn_angle(w.bodies().orientation[0] * q0.inverse());
     println!(
         "θ = {theta}°: moved {along:.3e} m down the slope in 0.5 s (ξ_s = {xi:.3e} m), {creep:.1e} \
          m over the last 0.25 s, turned {turn:.1e} rad, speed {:.1e} m/s",
-        w.bodies.velocity[0].length()
+        w.bodies().velocity[0].length()
     );
     assert!(
         along.abs() < 3.0 * xi,
         "slipped {along:e} m (ξ_s = {xi:e} m)"
     );
     assert!(creep < 1e-10, "creeping: {creep:e} m in 0.25 s");
-    assert!(w.bodies.velocity[0].length() < 1e-6);
+    assert!(w.bodies().velocity[0].length() < 1e-6);
     // The box does turn, elastically: friction acts at the base, h/2 below the centre, and its
     // moment m g sin θ h/2 is taken by the volume law's rocking stiffness k_v I_face
     // (I_face = w⁴/12, the face's second moment of area: the pressure k_v d(x) of a wedge-shaped
@@ -134,8 +134,8 @@ fn flat_box_slides_above_the_friction_angle() {
     let (mut p, down, normal) = incline(theta);
     let expected = G * (theta.to_radians().sin() - MU * theta.to_radians().cos());
     let w = &mut p.world;
-    let dt = w.time_step;
-    let (x0, q0) = (w.bodies.position[0], w.bodies.orientation[0]);
+    let dt = w.time_step();
+    let (x0, q0) = (w.bodies().position[0], w.bodies().orientation[0]);
     // Sample the speed down the slope from 0.05 s (long after the settling) to 0.4 s and fit a
     // straight line (least squares).
     w.run_steps((0.05 / dt).round() as u64);
@@ -143,19 +143,19 @@ fn flat_box_slides_above_the_friction_angle() {
     let mut max_off_line = 0.0f64;
     for _ in 0..70 {
         w.run_steps((0.005 / dt).round() as u64);
-        let (t, v) = (w.time, w.bodies.velocity[0].dot(down));
+        let (t, v) = (w.time(), w.bodies().velocity[0].dot(down));
         st += t;
         sv += v;
         stt += t * t;
         stv += t * v;
         n += 1.0;
         // The box stays on the plane: its centre keeps its height over it.
-        let height = (w.bodies.position[0] - x0).dot(normal);
+        let height = (w.bodies().position[0] - x0).dot(normal);
         max_off_line = max_off_line.max(height.abs());
     }
     let slope = (n * stv - st * sv) / (n * stt - st * st);
     let error = slope / expected - 1.0;
-    let turn = turn_angle(w.bodies.orientation[0] * q0.inverse());
+    let turn = turn_angle(w.bodies().orientation[0] * q0.inverse());
     println!(
         "θ = {theta}°: a = {slope:.8} m/s² vs g(sin θ − μ cos θ) = {expected:.8} (rel. {error:+.1e}); \
          height change {max_off_line:.1e} m, turned {turn:.1e} rad"

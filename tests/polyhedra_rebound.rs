@@ -93,20 +93,20 @@ velocity = [0.0, 0.0, -{v0:e}]
         .expect("scene builds");
     let w = &mut p.world;
     let mut before = None;
-    let mut last_free = w.bodies.velocity[0].z;
+    let mut last_free = w.bodies().velocity[0].z;
     for _ in 0..(10.0 * steps_per_contact) as usize {
         w.step();
         let touching = w.contacts().with_planes().next().is_some();
         match (touching, before) {
             (true, None) => before = Some(last_free),
             (false, Some(v_before)) => {
-                let v_after = w.bodies.velocity[0].z;
-                return (-v_after / v_before, w.bodies.angular_velocity[0].length());
+                let v_after = w.bodies().velocity[0].z;
+                return (-v_after / v_before, w.bodies().angular_velocity[0].length());
             }
             _ => {}
         }
         if !touching {
-            last_free = w.bodies.velocity[0].z;
+            last_free = w.bodies().velocity[0].z;
         }
     }
     panic!("the cube did not come off the plane");

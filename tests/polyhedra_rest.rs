@@ -118,7 +118,7 @@ fn turn_angle(q: DQuat) -> f64 {
 
 /// Largest speed of any point of any body: |v| + |ω| r_bounding.
 fn largest_speed(p: &Prepared) -> f64 {
-    let b = &p.world.bodies;
+    let b = p.world.bodies();
     (0..b.len())
         .map(|i| b.velocity[i].length() + b.angular_velocity[i].length() * b.bounding_radius[i])
         .fold(0.0, f64::max)
@@ -127,8 +127,8 @@ fn largest_speed(p: &Prepared) -> f64 {
 #[test]
 fn cubes_come_to_rest_and_stay() {
     let mut p = build(&scene());
-    let dt = p.world.time_step;
-    let mass = p.world.bodies.mass[0];
+    let dt = p.world.time_step();
+    let mass = p.world.bodies().mass[0];
     println!("time step {dt:.4e} s ({})", p.estimate.reason);
 
     // Settling: the cubes start touching and sink to the static overlap (≈ 0.2–0.6 µm) within a
@@ -148,13 +148,13 @@ fn cubes_come_to_rest_and_stay() {
     // law — a spring that does not hold, a force that does not balance — would move the cubes
     // by a sizeable fraction of the overlap within a second and fail it. (The brief's 1e-7 m
     // is half the overlap itself, too loose to catch that.)
-    let start: Vec<DVec3> = p.world.bodies.position.clone();
-    let start_orientation: Vec<DQuat> = p.world.bodies.orientation.clone();
+    let start: Vec<DVec3> = p.world.bodies().position.clone();
+    let start_orientation: Vec<DQuat> = p.world.bodies().orientation.clone();
     let (mut worst_speed, mut worst_shift, mut worst_turn) = (0.0f64, 0.0f64, 0.0f64);
     for _ in 0..10 {
         p.world.run_steps(10_000);
         worst_speed = worst_speed.max(largest_speed(&p));
-        let b = &p.world.bodies;
+        let b = p.world.bodies();
         for i in 0..b.len() {
             worst_shift = worst_shift.max((b.position[i] - start[i]).length());
             let turn = (b.orientation[i] * start_orientation[i].inverse()).normalize();

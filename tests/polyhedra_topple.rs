@@ -101,26 +101,26 @@ rotation = [0.0, {rot}, 0.0]
         .build()
         .expect("scene builds");
     let w = &mut p.world;
-    let dt = w.time_step;
-    let (x0, q0) = (w.bodies.position[0], w.bodies.orientation[0]);
+    let dt = w.time_step();
+    let (x0, q0) = (w.bodies().position[0], w.bodies().orientation[0]);
     let chunk = (0.01 / dt).round() as u64;
     let mut max_turn = 0.0f64;
     // Least-squares line through the speed down the slope, from 0.1 s on.
     let (mut st, mut sv, mut stt, mut stv, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    while w.time < duration - 0.5 * dt {
+    while w.time() < duration - 0.5 * dt {
         w.run_steps(chunk);
-        max_turn = max_turn.max(turn_angle(w.bodies.orientation[0] * q0.inverse()));
-        if w.time > 0.1 {
-            let (t, v) = (w.time, w.bodies.velocity[0].dot(down));
+        max_turn = max_turn.max(turn_angle(w.bodies().orientation[0] * q0.inverse()));
+        if w.time() > 0.1 {
+            let (t, v) = (w.time(), w.bodies().velocity[0].dot(down));
             (st, sv, stt, stv, n) = (st + t, sv + v, stt + t * t, stv + t * v, n + 1.0);
         }
     }
     Outcome {
-        slid: (w.bodies.position[0] - x0).dot(down),
+        slid: (w.bodies().position[0] - x0).dot(down),
         acceleration: (n * stv - st * sv) / (n * stt - st * st),
         max_turn,
-        final_turn: turn_angle(w.bodies.orientation[0] * q0.inverse()),
-        speed: w.bodies.velocity[0].length(),
+        final_turn: turn_angle(w.bodies().orientation[0] * q0.inverse()),
+        speed: w.bodies().velocity[0].length(),
     }
 }
 

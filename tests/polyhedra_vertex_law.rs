@@ -59,13 +59,13 @@ fn resting_cube_sinks_by_the_statics_of_four_springs() {
         .build()
         .unwrap();
     let w = &mut p.world;
-    w.run_steps((0.5 / w.time_step) as u64);
-    let speed = w.bodies.velocity[0].length();
-    let mass = w.bodies.mass[0];
+    w.run_steps((0.5 / w.time_step()) as u64);
+    let speed = w.bodies().velocity[0].length();
+    let mass = w.bodies().mass[0];
     let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
     let r_eq = (3.0 * EDGE.powi(3) / (4.0 * std::f64::consts::PI)).cbrt();
     let depth = mass * 9.81 / (4.0 * e_star * r_eq);
-    let sunk = 0.5 * EDGE - w.bodies.position[0].z;
+    let sunk = 0.5 * EDGE - w.bodies().position[0].z;
     println!("depth {sunk:.6e} m vs m g/(4 k_p) = {depth:.6e} m, speed {speed:.1e} m/s");
     assert!(speed < 1e-6, "not at rest: {speed} m/s");
     // At rest the dashpots are idle: the springs alone hold the weight, to round-off; 1e-6
@@ -91,7 +91,7 @@ fn elastic_tilted_drop_keeps_its_energy() {
     let e0 = energy(w);
     let mut touched = false;
     let mut worst: f64 = 0.0;
-    while w.time < 0.2 {
+    while w.time() < 0.2 {
         w.run_steps(10);
         if w.contacts().with_planes().next().is_none() {
             // In flight: all the energy is kinetic and potential.

@@ -53,13 +53,13 @@ position = [0.0, 0.0, 0.15]
 fn timed_insertions_and_open_boundary() {
     let scene = Scene::parse(Path::new("hopper.toml"), HOPPER.to_string()).unwrap();
     let mut prepared = scene.build().unwrap();
-    assert_eq!(prepared.world.bodies.len(), 1);
+    assert_eq!(prepared.world.bodies().len(), 1);
     let dir = tempfile::tempdir().unwrap();
     let mut insertions = Vec::new();
     let mut most = 0;
     run(&mut prepared, dir.path(), |event| match event {
         RunEvent::Inserted(r) => insertions.push(r.clone()),
-        RunEvent::Progress(w) => most = most.max(w.bodies.len()),
+        RunEvent::Progress(w) => most = most.max(w.bodies().len()),
     })
     .unwrap();
 
@@ -68,7 +68,7 @@ fn timed_insertions_and_open_boundary() {
     for (r, expected) in insertions.iter().zip([0.02, 0.07, 0.12, 0.17]) {
         // Insertions happen at the first step boundary at or after their time.
         assert!(
-            (r.time - expected).abs() <= prepared.world.time_step,
+            (r.time - expected).abs() <= prepared.world.time_step(),
             "{r:?}"
         );
         assert_eq!(r.inserted, 20);
@@ -77,19 +77,19 @@ fn timed_insertions_and_open_boundary() {
     let w = &prepared.world;
     // Every body that came in is still there or was counted out, and ids are never reused.
     assert!(
-        w.bodies_removed > 0,
+        w.bodies_removed() > 0,
         "beads should have left the chute's lower end"
     );
-    assert_eq!(w.bodies.len() as u64 + w.bodies_removed, 81);
-    let mut ids = w.bodies.id.clone();
+    assert_eq!(w.bodies().len() as u64 + w.bodies_removed(), 81);
+    let mut ids = w.bodies().id.clone();
     ids.sort_unstable();
     ids.dedup();
-    assert_eq!(ids.len(), w.bodies.len());
+    assert_eq!(ids.len(), w.bodies().len());
     assert!(ids.iter().all(|&id| id < 81));
     // Everyone left is inside the domain.
-    let domain = w.domain.unwrap();
+    let domain = w.domain().unwrap();
     assert!(w
-        .bodies
+        .bodies()
         .position
         .iter()
         .all(|x| x.cmpge(domain.min).all() && x.cmple(domain.max).all()));

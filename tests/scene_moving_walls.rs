@@ -61,14 +61,19 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
 fn belt_carries_beads_through_the_flow_meters() {
     let scene = Scene::parse(Path::new("belt.toml"), BELT.to_string()).unwrap();
     let mut prepared = scene.build().unwrap();
-    let bodies = prepared.world.bodies.len();
+    let bodies = prepared.world.bodies().len();
     assert_eq!(bodies, 9);
-    let mass: f64 = prepared.world.bodies.mass.iter().sum();
+    let mass: f64 = prepared.world.bodies().mass.iter().sum();
     let dir = tempfile::tempdir().unwrap();
     run(&mut prepared, dir.path(), |_| {}).unwrap();
     let w = &prepared.world;
     // The belt carried every bead off its end (rolling at 2/7 of 0.5 m/s, 8 cm takes 0.6 s)...
-    assert_eq!(w.bodies_removed as usize, bodies, "{} left", w.bodies.len());
+    assert_eq!(
+        w.bodies_removed() as usize,
+        bodies,
+        "{} left",
+        w.bodies().len()
+    );
     // ...through the plane and out of the box, each counted once.
     let (header, rows) = read_csv(&dir.path().join("flow.csv"));
     assert_eq!(

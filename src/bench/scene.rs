@@ -154,7 +154,7 @@ pub fn settle(world: &mut World, steps: u64) {
         return;
     }
     world.run_steps(steps);
-    let b = &mut world.bodies;
+    let b = world.bodies_mut();
     for v in [
         &mut b.velocity,
         &mut b.angular_momentum,
@@ -186,9 +186,9 @@ pub fn run(
     let world = &mut world;
     progress(&format!(
         "built {} bodies in {:.2} s; time step {:.3e} s, {} threads",
-        world.bodies.len(),
+        world.bodies().len(),
         start.elapsed().as_secs_f64(),
-        world.time_step,
+        world.time_step(),
         world.threads()
     ));
     if settle_steps > 0 {
@@ -233,7 +233,7 @@ pub fn run(
     Ok(SceneTiming {
         name,
         threads: world.threads(),
-        bodies: world.bodies.len(),
+        bodies: world.bodies().len(),
         settle_steps,
         steps,
         window_start,
@@ -261,7 +261,7 @@ pub fn write_initial_bodies(
         w.flush()
     };
     write(out).map_err(|e| format!("writing '{}': {e}", out.display()))?;
-    Ok(world.bodies.len())
+    Ok(world.bodies().len())
 }
 
 /// Writes the world's plane walls and bodies, one line each, space-separated, in SI units:
@@ -275,12 +275,12 @@ pub fn write_initial_bodies(
 /// rest.
 /// Non-convex bodies are refused.
 pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> {
-    let b = &world.bodies;
+    let b = world.bodies();
     writeln!(
         out,
         "# polydem bodies: {} bodies, {} planes (SI units)",
         b.len(),
-        world.planes.len()
+        world.planes().len()
     )?;
     writeln!(
         out,
@@ -291,14 +291,14 @@ pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> 
         out,
         "# polyhedron x y z density n x1 y1 z1 ... (centre of mass, n corners in world coordinates)"
     )?;
-    for p in &world.planes {
+    for p in world.planes() {
         let (x, n) = (p.point, p.normal);
         writeln!(out, "plane {} {} {} {} {} {}", x.x, x.y, x.z, n.x, n.y, n.z)?;
     }
     for i in 0..b.len() {
         let x = b.position[i];
-        let density = world.materials[b.material[i] as usize].density;
-        match &world.shapes[b.shape[i] as usize] {
+        let density = world.materials()[b.material[i] as usize].density;
+        match &world.shapes()[b.shape[i] as usize] {
             Shape::Sphere(s) => {
                 writeln!(out, "sphere {} {} {} {} {density}", x.x, x.y, x.z, s.radius)?
             }

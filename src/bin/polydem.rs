@@ -165,20 +165,24 @@ fn describe(scene: &Path, p: &Prepared) {
     let w = &p.world;
     let steps = polydem::run::total_steps(p);
     println!("scene        {}", scene.display());
-    let moving = w.mesh_walls.iter().filter(|m| !m.motion.is_fixed()).count();
+    let moving = w
+        .mesh_walls()
+        .iter()
+        .filter(|m| !m.motion.is_fixed())
+        .count();
     println!(
         "bodies       {} ({} materials, {} plane walls, {} mesh walls of which {moving} move)",
-        w.bodies.len(),
-        w.materials.len(),
-        w.planes.len(),
-        w.mesh_walls.len()
+        w.bodies().len(),
+        w.materials().len(),
+        w.planes().len(),
+        w.mesh_walls().len()
     );
     let how = if p.automatic_time_step {
         "auto".to_string()
     } else {
         format!("given; stable estimate {:.4e} s", p.estimate.seconds)
     };
-    println!("time step    {:.4e} s ({how})", w.time_step);
+    println!("time step    {:.4e} s ({how})", w.time_step());
     println!("             estimate: {}", p.estimate.reason);
     println!(
         "duration     {} s = {steps} steps, output every {} s",
@@ -218,8 +222,8 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
     let start = Instant::now();
     let result = polydem::run::run(&mut prepared, &out, |event| match event {
         RunEvent::Progress(w) => {
-            bar.set_position(w.steps_done);
-            bar.set_message(format!("{:.4} / {duration} s", w.time));
+            bar.set_position(w.steps_done());
+            bar.set_message(format!("{:.4} / {duration} s", w.time()));
         }
         RunEvent::Inserted(r) => {
             let line = format!(
@@ -240,13 +244,13 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
     let w = &prepared.world;
     println!(
         "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s",
-        w.steps_done,
-        (w.steps_done as f64 * w.bodies.len() as f64) / seconds.max(1e-9)
+        w.steps_done(),
+        (w.steps_done() as f64 * w.bodies().len() as f64) / seconds.max(1e-9)
     );
-    if w.bodies_removed > 0 {
+    if w.bodies_removed() > 0 {
         println!(
             "             {} bodies left the domain and were removed",
-            w.bodies_removed
+            w.bodies_removed()
         );
     }
     Ok(())

@@ -616,7 +616,7 @@ angular_velocity = [0.1, 1.0, 0.1]
             .build()
             .unwrap()
             .world;
-        let b = &world.bodies;
+        let b = world.bodies();
         // The principal moments are the box's, in some order.
         let mut moments = b.inertia[0].to_array();
         moments.sort_by(f64::total_cmp);
@@ -631,9 +631,9 @@ angular_velocity = [0.1, 1.0, 0.1]
             let e = w.energy();
             e.kinetic_rotational + e.kinetic_translational
         };
-        let (e0, l0) = (energy(&world), world.bodies.angular_momentum[0].length());
+        let (e0, l0) = (energy(&world), world.bodies().angular_momentum[0].length());
         let intermediate = |w: &crate::World| {
-            (w.bodies.orientation[0].inverse() * w.bodies.angular_velocity[0])[axis]
+            (w.bodies().orientation[0].inverse() * w.bodies().angular_velocity[0])[axis]
         };
         let (mut previous, mut crossings) = (intermediate(&world), Vec::new());
         let (mut worst_e, mut worst_l) = (0.0_f64, 0.0_f64);
@@ -645,7 +645,7 @@ angular_velocity = [0.1, 1.0, 0.1]
             }
             previous = now;
             worst_e = worst_e.max((energy(&world) / e0 - 1.0).abs());
-            worst_l = worst_l.max((world.bodies.angular_momentum[0].length() / l0 - 1.0).abs());
+            worst_l = worst_l.max((world.bodies().angular_momentum[0].length() / l0 - 1.0).abs());
         }
         let periods = crossings.len() - 1;
         assert!(periods >= 2, "too few flips: {crossings:?}");

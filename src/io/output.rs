@@ -79,7 +79,7 @@ impl RunOutput {
         if options.packing_region.is_some() {
             columns.push("packing_fraction");
         }
-        let b = &world.bodies;
+        let b = world.bodies();
         let bounds = (0..b.len())
             .map(|i| Aabb::around_sphere(b.position[i], b.bounding_radius[i]))
             .reduce(|a, c| a.union(&c))
@@ -94,9 +94,9 @@ impl RunOutput {
             wall_forces: CsvSeries::new(dir.join("wall_forces.csv"), &wall_force_columns(world)),
             flow: CsvSeries::new(dir.join("flow.csv"), &flow_columns(world)),
             options: options.clone(),
-            last_time: world.time,
+            last_time: world.time(),
             last_impulse: wall_impulses(world),
-            last_flow_mass: world.flow_meters.iter().map(|m| m.mass).collect(),
+            last_flow_mass: world.flow_meters().iter().map(|m| m.mass).collect(),
             frame: 0,
             wall_centre: 0.5 * (bounds.min + bounds.max),
             wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
@@ -109,7 +109,7 @@ impl RunOutput {
 
     /// Writes one frame of every series.
     pub fn write(&mut self, world: &World) -> io::Result<()> {
-        let b = &world.bodies;
+        let b = world.bodies();
         let name = format!("particles_{:06}.vtp", self.frame);
         write_particles(
             &self.dir.join(&name),
@@ -122,21 +122,21 @@ impl RunOutput {
                 materials: &b.material,
                 orientations: &b.orientation,
             },
-            world.time,
+            world.time(),
         )?;
-        self.particles.add(world.time, &name, 0)?;
+        self.particles.add(world.time(), &name, 0)?;
 
         let name = format!("walls_{:06}.vtp", self.frame);
         write_polygons(
             &self.dir.join(&name),
             &self.wall_mesh(world),
             "wall",
-            world.time,
+            world.time(),
         )?;
-        self.walls.add(world.time, &name, 0)?;
+        self.walls.add(world.time(), &name, 0)?;
 
         if world
-            .shapes
+            .shapes()
             .iter()
             .any(|s| matches!(s, Shape::Convex(_) | Shape::NonConvex(_)))
         {
@@ -145,20 +145,20 @@ impl RunOutput {
                 &self.dir.join(&name),
                 &polyhedra_mesh(world),
                 "id",
-                world.time,
+                world.time(),
             )?;
-            self.polyhedra.add(world.time, &name, 0)?;
+            self.polyhedra.add(world.time(), &name, 0)?;
         }
 
         if self.options.force_network {
             let name = format!("contacts_{:06}.vtp", self.frame);
-            write_force_network(&self.dir.join(&name), &force_network(world), world.time)?;
-            self.contacts.add(world.time, &name, 0)?;
+            write_force_network(&self.dir.join(&name), &force_network(world), world.time())?;
+            self.contacts.add(world.time(), &name, 0)?;
         }
 
         let e = world.energy();
         let mut row = vec![
-            world.time,
+            world.time(),
             e.kinetic_translational,
             e.kinetic_rotational,
             e.potential,
@@ -182,35 +182,35 @@ impl RunOutput {
 
     /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last frame.
     fn write_interval_means(&mut self, world: &World) -> io::Result<()> {
-        let interval = world.time - self.last_time;
+        let interval = world.time() - self.last_time;
         if interval <= 0.0 {
             return Ok(());
         }
         let impulses = wall_impulses(world);
         if !impulses.is_empty() {
-            let mut row = vec![world.time];
+            let mut row = vec![world.time()];
             for ((j, h), (j0, h0)) in impulses.iter().zip(&self.last_impulse) {
                 let (f, t) = ((*j - *j0) / interval, (*h - *h0) / interval);
                 row.extend([f.x, f.y, f.z, t.x, t.y, t.z]);
             }
             self.wall_forces.push(&row)?;
         }
-        if !world.flow_meters.is_empty() {
-            let mut row = vec![world.time];
-            for (m, m0) in world.flow_meters.iter().zip(&self.last_flow_mass) {
+        if !world.flow_meters().is_empty() {
+            let mut row = vec![world.time()];
+            for (m, m0) in world.flow_meters().iter().zip(&self.last_flow_mass) {
                 row.extend([m.mass, m.bodies as f64, (m.mass - m0) / interval]);
             }
             self.flow.push(&row)?;
         }
-        self.last_time = world.time;
+        self.last_time = world.time();
         self.last_impulse = impulses;
-        self.last_flow_mass = world.flow_meters.iter().map(|m| m.mass).collect();
+        self.last_flow_mass = world.flow_meters().iter().map(|m| m.mass).collect();
         Ok(())
     }
 
     fn wall_mesh(&self, world: &World) -> PolygonMesh {
         let mut mesh = PolygonMesh::default();
-        for (n, plane) in world.planes.iter().enumerate() {
+        for (n, plane) in world.planes().iter().enumerate() {
             let first = mesh.vertices.len() as u32;
             mesh.vertices
                 .extend(plane.patch(self.wall_centre, self.wall_half_size));
@@ -218,12 +218,12 @@ impl RunOutput {
             mesh.cell_ids.push(n as u32);
         }
         // Mesh walls follow the planes in the `wall` numbering.
-        for (n, wall) in world.mesh_walls.iter().enumerate() {
+        for (n, wall) in world.mesh_walls().iter().enumerate() {
             let first = mesh.vertices.len() as u32;
             mesh.vertices.extend(wall.current_vertices());
             for t in wall.triangles() {
                 mesh.polygons.push(t.iter().map(|&v| first + v).collect());
-                mesh.cell_ids.push((world.planes.len() + n) as u32);
+                mesh.cell_ids.push((world.planes().len() + n) as u32);
             }
         }
         mesh
@@ -232,7 +232,7 @@ impl RunOutput {
 
 /// Cumulative (impulse, angular impulse) of every wall, zero where no contact has happened yet.
 fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
-    let walls = world.planes.len() + world.mesh_walls.len();
+    let walls = world.planes().len() + world.mesh_walls().len();
     (0..walls)
         .map(|w| {
             let j = world
@@ -253,7 +253,7 @@ fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
 }
 
 fn wall_force_columns(world: &World) -> Vec<String> {
-    let walls = world.planes.len() + world.mesh_walls.len();
+    let walls = world.planes().len() + world.mesh_walls().len();
     let mut columns = vec!["time".to_string()];
     for w in 0..walls {
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
@@ -265,7 +265,7 @@ fn wall_force_columns(world: &World) -> Vec<String> {
 
 fn flow_columns(world: &World) -> Vec<String> {
     let mut columns = vec!["time".to_string()];
-    for m in &world.flow_meters {
+    for m in world.flow_meters() {
         for c in ["mass", "bodies", "rate"] {
             columns.push(format!("{}_{c}", m.name));
         }
@@ -275,12 +275,12 @@ fn flow_columns(world: &World) -> Vec<String> {
 
 /// Faces of every polyhedral body, in world coordinates.
 fn polyhedra_mesh(world: &World) -> PolygonMesh {
-    let b = &world.bodies;
+    let b = world.bodies();
     let mut mesh = PolygonMesh::default();
     for i in 0..b.len() {
         let first = mesh.vertices.len() as u32;
         let place = |v: &DVec3| b.position[i] + b.orientation[i] * *v;
-        match &world.shapes[b.shape[i] as usize] {
+        match &world.shapes()[b.shape[i] as usize] {
             Shape::Sphere(_) => continue,
             Shape::Convex(p) => {
                 mesh.vertices.extend(p.vertices().iter().map(place));
@@ -307,7 +307,7 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
 /// wall. A pair that can touch in several places (a non-convex body) gets one line per contact
 /// region, bent at its contact point: centre, contact point, centre.
 fn force_network(world: &World) -> ForceNetwork {
-    let b = &world.bodies;
+    let b = world.bodies();
     let mut network = ForceNetwork::default();
     let mut line = |points: &[DVec3], c: &crate::contact::ContactRef, wall: u32| {
         let first = network.points.len() as u32;
@@ -324,7 +324,7 @@ fn force_network(world: &World) -> ForceNetwork {
         match c.key.partner.body() {
             Some(j) => {
                 let j = j as usize;
-                let regional = |k: usize| world.shapes[b.shape[k] as usize].has_regions();
+                let regional = |k: usize| world.shapes()[b.shape[k] as usize].has_regions();
                 if regional(i) || regional(j) {
                     line(&[b.position[i], c.geometry.point, b.position[j]], &c, 0);
                 } else {
@@ -342,11 +342,11 @@ fn force_network(world: &World) -> ForceNetwork {
 /// balance those sticking in); keep the region a few body sizes away from walls and the free
 /// surface.
 pub fn packing_fraction(world: &World, region: &Aabb) -> f64 {
-    let b = &world.bodies;
+    let b = world.bodies();
     let solid: f64 = (0..b.len())
         .filter(|&i| b.position[i].cmpge(region.min).all() && b.position[i].cmple(region.max).all())
         .map(|i| {
-            world.shapes[b.shape[i] as usize]
+            world.shapes()[b.shape[i] as usize]
                 .unit_mass_properties()
                 .volume
         })

@@ -72,7 +72,6 @@
 //! vertex on the boundary of two cells of one region (on a shared edge) counts once.
 
 use super::clip::{clip_polygon, Plane, PLANE_TOLERANCE};
-use super::convex_convex::VolumeContact;
 use super::dispatch::{springs, volume_geometry};
 use super::nonconvex::{mesh_wall_regions, RegionScratch};
 use super::Geometry;
@@ -81,6 +80,11 @@ use crate::contact_law::PolyhedralLaw;
 use crate::math::{Aabb, DMat3, DQuat, DVec3};
 use crate::shape::{ConvexPolyhedron, NonConvexPolyhedron};
 use crate::wall::MeshWall;
+use cells::{edge_planes, face_plane, is_active};
+use region_sum::{region_contact, Sums};
+
+mod cells;
+mod region_sum;
 
 /// Triangles are searched in the body's box enlarged by this fraction of its bounding radius:
 /// the cells behind a concave fold widen with depth, so a cell can reach under the body from a
@@ -530,7 +534,7 @@ fn pressed_contacts(
     }
 
     // Regions: touched classes within the smooth angle of each other, transitively.
-    let smooth_cos = wall.smooth_angle.cos();
+    let smooth_cos = wall.smooth_angle().cos();
     for i in 0..classes.len() {
         for j in 0..i {
             if classes[i].touched
@@ -603,22 +607,6 @@ fn pressed_contacts(
     out.truncate(MAX_REGIONS);
 }
 
-/// The plane of triangle `t`, relative to `origin` (from its first corner, so every caller gets
-/// the same numbers).
-fn face_plane(wall: &MeshWall, t: u32, origin: DVec3) -> Plane {
-    let normal = wall.normals()[t as usize];
-    let corner = wall.vertices()[wall.triangles()[t as usize][0] as usize] - origin;
-    Plane {
-        normal,
-        offset: normal.dot(corner),
-    }
-}
-
-/// Whether a triangle acts on the body: its centre (the origin of `face`'s frame) is in front.
-fn is_active(face: &Plane) -> bool {
-    face.offset < 0.0
-}
-
 /// Union–find root (the classes are few: no path compression needed).
 fn root(classes: &[Class], mut i: usize) -> usize {
     while classes[i].parent != i {
@@ -647,145 +635,6 @@ fn extent(points: &[DVec3], plane: &Plane) -> (f64, f64) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
             (lo.min(d), hi.max(d))
         })
-}
-
-/// The planes through the edges of triangle `t`'s cell (relative to `origin`), normals out of
-/// the cell. Across an edge shared with one other triangle: the bisector of the two faces
-/// (perpendicular to both when they are coplanar), except where the other face folds away
-/// convexly and does not act on the body (its centre behind it): then the other face's plane, so
-/// that the cell holds what is behind both faces and nothing in front of the other. Across a rim
-/// (one triangle) or a non-manifold edge: the plane perpendicular to the face. Both triangles of
-/// an edge get the same bisector, oppositely oriented, bit for bit.
-fn edge_planes(wall: &MeshWall, t: u32, origin: DVec3) -> [Plane; 3] {
-    let vertices = wall.vertices();
-    let triangles = wall.triangles();
-    let normals = wall.normals();
-    let tri = triangles[t as usize];
-    let n = normals[t as usize];
-    let fold_cos = FOLD_ANGLE.cos();
-    // Out of triangle `s` across its edge from corner i to corner j (its winding order).
-    let outward = |s: u32, i: u32, j: u32| {
-        (vertices[j as usize] - vertices[i as usize])
-            .normalize()
-            .cross(normals[s as usize])
-    };
-    std::array::from_fn(|k| {
-        let (i, j) = (tri[k], tri[(k + 1) % 3]);
-        let own = outward(t, i, j);
-        let mut normal = own;
-        if let &[a, b] = wall.triangles_of_edge(wall.triangle_edges()[t as usize][k]) {
-            let s = if a == t { b } else { a };
-            let st = triangles[s as usize];
-            let m = (0..3)
-                .find(|&m| {
-                    let (p, q) = (st[m], st[(m + 1) % 3]);
-                    (p == i && q == j) || (p == j && q == i)
-                })
-                .expect("the edge's other triangle has the edge");
-            let far = st[(m + 2) % 3];
-            let other_face = face_plane(wall, s, origin);
-            if !is_active(&other_face)
-                && n.dot(normals[s as usize]) < fold_cos
-                && n.dot(vertices[far as usize] - vertices[i as usize]) < 0.0
-            {
-                return other_face;
-            }
-            let other = outward(s, st[m], st[(m + 1) % 3]);
-            // −other points into the neighbour; own − other is normal to the bisector. Zero
-            // only when the two faces fold onto each other (a fin of no thickness).
-            let d = own - other;
-            if d.length_squared() > 1e-12 {
-                normal = d.normalize();
-            }
-        }
-        let anchor = vertices[i.min(j) as usize] - origin;
-        Plane {
-            normal,
-            offset: normal.dot(anchor),
-        }
-    })
-}
-
-/// Divergence-theorem sums over boundary polygons, tetrahedra from a reference point `r`.
-#[derive(Clone, Copy, Debug, Default)]
-struct Sums {
-    six_volume: f64,
-    moment: DVec3,
-    vector_area: DVec3,
-}
-
-impl Sums {
-    /// Adds a boundary polygon with outward unit `normal`; returns its area.
-    fn add(&mut self, polygon: &[DVec3], normal: DVec3, r: DVec3) -> f64 {
-        let p0 = polygon[0] - r;
-        let mut doubled = DVec3::ZERO;
-        for w in polygon[1..].windows(2) {
-            let (p1, p2) = (w[0] - r, w[1] - r);
-            let v = p0.dot(p1.cross(p2));
-            self.six_volume += v;
-            self.moment += v * (p0 + p1 + p2);
-            doubled += (p1 - p0).cross(p2 - p0);
-        }
-        // Only the polygon's own normal direction counts (exact direction, fan round-off dropped).
-        let area = 0.5 * doubled.dot(normal);
-        self.vector_area += area * normal;
-        area
-    }
-}
-
-/// The volume contact of one region: the sums of its pieces.
-fn region_contact(
-    pieces: &[Piece],
-    classes: &[Class],
-    region: usize,
-    x: DVec3,
-    tolerance: f64,
-) -> Option<VolumeContact> {
-    let (mut volume, mut moment, mut area, mut potential) = (0.0, DVec3::ZERO, 0.0, 0.0);
-    for piece in pieces.iter().filter(|p| classes[p.class].parent == region) {
-        volume += piece.volume;
-        moment += piece.moment;
-        area += piece.area;
-        potential += piece.potential;
-    }
-    if !(volume > 0.0 && area > 0.0) {
-        return None;
-    }
-    let depth = volume / area;
-    if depth.is_nan() || depth <= tolerance {
-        return None;
-    }
-    let centroid = moment / volume;
-    // Load Σ V n and its moment about the centroid, class by class: a flat region is one class,
-    // whose load passes through the centroid exactly.
-    let (mut load, mut couple, mut count) = (DVec3::ZERO, DVec3::ZERO, 0);
-    for (c, class) in classes.iter().enumerate() {
-        if class.parent != region || !class.touched {
-            continue;
-        }
-        let (mut v, mut m) = (0.0, DVec3::ZERO);
-        for piece in pieces.iter().filter(|p| p.class == c) {
-            v += piece.volume;
-            m += piece.moment;
-        }
-        load += v * class.face.normal;
-        couple += (m - v * centroid).cross(class.face.normal);
-        count += 1;
-    }
-    if count == 1 {
-        couple = DVec3::ZERO;
-    }
-    let normal = load.try_normalize()?;
-    Some(VolumeContact {
-        volume,
-        centroid: x + centroid,
-        normal,
-        area,
-        depth,
-        load,
-        couple,
-        potential,
-    })
 }
 
 #[cfg(test)]

@@ -24,7 +24,7 @@
 //!    triangles around it). Distinct minima touch disjoint sets of triangles: a sphere in a concave
 //!    corner gets one contact per wall it presses on.
 //!
-//! 4. Two face contacts whose normals differ by less than the wall's `smooth_angle` are facets
+//! 4. Two face contacts whose normals differ by less than the mesh's `smooth_angle()` are facets
 //!    of one smooth surface (a faceted drum, a coarse helicoid): only the deeper is kept, so a
 //!    sphere rolling over a shallow concave fold sees the larger of the two overlaps, continuous,
 //!    not their sum. The rule depends only on the pair of faces, never on where the sphere is,
@@ -42,8 +42,8 @@
 
 use super::Geometry;
 pub use crate::geometry::triangle::{closest_point_on_triangle, TriangleRegion};
+use crate::geometry::triangle_mesh::{Feature, TriangleMesh};
 use crate::math::{Aabb, DVec3};
-use crate::wall::{Feature, MeshWall};
 
 /// One contact of a sphere with a mesh wall and the feature of the wall it touches (a stable key
 /// for the contact's history while the sphere stays on that feature).
@@ -79,8 +79,8 @@ struct Candidate {
 /// pseudo-normal, Bærentzen & Aanæs 2005). Inside a closed wall's solid (a screw's shaft, the
 /// outside of a closed box facing inward) this is true however far from the surface. A point
 /// nearest to the rim of an open wall is never behind it.
-pub fn is_behind_mesh(x: DVec3, wall: &MeshWall) -> bool {
-    let bounds = wall.bounds();
+pub fn is_behind_mesh(x: DVec3, mesh: &TriangleMesh) -> bool {
+    let bounds = mesh.bounds();
     let mut half = (bounds.extent().max_element() * 1e-3).max(f64::MIN_POSITIVE);
     let mut near = Vec::new();
     loop {
@@ -89,11 +89,11 @@ pub fn is_behind_mesh(x: DVec3, wall: &MeshWall) -> bool {
             .max(x - bounds.max)
             .max(DVec3::ZERO)
             .length();
-        wall.triangles_near(&Aabb::around_sphere(x, half.max(outside)), &mut near);
+        mesh.triangles_near(&Aabb::around_sphere(x, half.max(outside)), &mut near);
         let best = near
             .iter()
             .map(|&t| {
-                let [a, b, c] = wall.corners(t);
+                let [a, b, c] = mesh.corners(t);
                 let (q, region) = closest_point_on_triangle(x, a, b, c);
                 (t, q, region, (x - q).length())
             })
@@ -101,16 +101,16 @@ pub fn is_behind_mesh(x: DVec3, wall: &MeshWall) -> bool {
         match best {
             // Every triangle outside the query box is farther than its half-size.
             Some((t, q, region, d)) if d <= half.max(outside) => {
-                let tri = wall.triangles()[t as usize];
+                let tri = mesh.triangles()[t as usize];
                 let feature = match region {
                     TriangleRegion::Face => Feature::Face(t),
-                    TriangleRegion::Edge(k) => Feature::Edge(wall.triangle_edges()[t as usize][k]),
+                    TriangleRegion::Edge(k) => Feature::Edge(mesh.triangle_edges()[t as usize][k]),
                     TriangleRegion::Vertex(k) => Feature::Vertex(tri[k]),
                 };
-                if wall.is_boundary(&feature) {
+                if mesh.is_boundary(&feature) {
                     return false;
                 }
-                return (x - q).dot(wall.feature_normal(&feature)) < 0.0;
+                return (x - q).dot(mesh.feature_normal(&feature)) < 0.0;
             }
             Some((_, _, _, d)) => half = d,
             None => half = 2.0 * half.max(outside),
@@ -120,9 +120,9 @@ pub fn is_behind_mesh(x: DVec3, wall: &MeshWall) -> bool {
 
 /// The contacts of a sphere (centre `x`, radius `r`) with a mesh wall, normals pointing from the
 /// wall towards the sphere; empty if it touches nothing. See the module's rule.
-pub fn sphere_mesh(x: DVec3, r: f64, wall: &MeshWall) -> Vec<Geometry> {
+pub fn sphere_mesh(x: DVec3, r: f64, mesh: &TriangleMesh) -> Vec<Geometry> {
     let mut out = Vec::new();
-    sphere_mesh_contacts(x, r, wall, &mut MeshScratch::default(), &mut out);
+    sphere_mesh_contacts(x, r, mesh, &mut MeshScratch::default(), &mut out);
     out.into_iter().map(|c| c.geometry).collect()
 }
 
@@ -130,7 +130,7 @@ pub fn sphere_mesh(x: DVec3, r: f64, wall: &MeshWall) -> Vec<Geometry> {
 pub fn sphere_mesh_contacts(
     x: DVec3,
     r: f64,
-    wall: &MeshWall,
+    mesh: &TriangleMesh,
     scratch: &mut MeshScratch,
     out: &mut Vec<MeshContact>,
 ) {
@@ -143,11 +143,11 @@ pub fn sphere_mesh_contacts(
     } = scratch;
     candidates.clear();
     distance.clear();
-    wall.triangles_near(&Aabb::around_sphere(x, r), near);
-    let triangles = wall.triangles();
-    let edges = wall.triangle_edges();
+    mesh.triangles_near(&Aabb::around_sphere(x, r), near);
+    let triangles = mesh.triangles();
+    let edges = mesh.triangle_edges();
     for &t in near.iter() {
-        let [a, b, c] = wall.corners(t);
+        let [a, b, c] = mesh.corners(t);
         let (q, region) = closest_point_on_triangle(x, a, b, c);
         let d = (x - q).length();
         if d >= r {
@@ -183,14 +183,14 @@ pub fn sphere_mesh_contacts(
     // points this close are the same minimum too.
     let same_point = 3.0 * (2.0 * r * tolerance).sqrt();
     taken.clear();
-    let smooth_cos = wall.smooth_angle.cos();
+    let smooth_cos = mesh.smooth_angle().cos();
     let distance_to = |t: u32| match near.binary_search(&t) {
         Ok(i) => distance[i],
         // Not near the sphere's box: farther than the radius, so farther than any candidate.
         Err(_) => f64::INFINITY,
     };
     for cand in candidates.iter() {
-        let touching = wall.triangles_of_feature(&cand.feature);
+        let touching = mesh.triangles_of_feature(&cand.feature);
         // 2. A local minimum: no triangle through the point is closer.
         if touching
             .iter()
@@ -201,11 +201,11 @@ pub fn sphere_mesh_contacts(
         // 3. The same minimum as a contact already taken.
         if out.iter().zip(taken.iter()).any(|(contact, point)| {
             (*point - cand.point).length() <= same_point
-                || shares_an_element(wall.triangles_of_feature(&contact.feature), touching)
+                || shares_an_element(mesh.triangles_of_feature(&contact.feature), touching)
         }) {
             continue;
         }
-        let Some(geometry) = contact_geometry(x, r, wall, cand) else {
+        let Some(geometry) = contact_geometry(x, r, mesh, cand) else {
             continue;
         };
         let contact = MeshContact {
@@ -215,9 +215,9 @@ pub fn sphere_mesh_contacts(
         };
         // 4. Facets of one smooth surface: the deepest only.
         if let Feature::Face(t) = cand.feature {
-            let n = wall.normals()[t as usize];
+            let n = mesh.normals()[t as usize];
             if let Some(i) = out.iter().position(|c| match c.feature {
-                Feature::Face(s) => wall.normals()[s as usize].dot(n) >= smooth_cos,
+                Feature::Face(s) => mesh.normals()[s as usize].dot(n) >= smooth_cos,
                 _ => false,
             }) {
                 if geometry.overlap > out[i].geometry.overlap {
@@ -245,17 +245,17 @@ fn shares_an_element(a: &[u32], b: &[u32]) -> bool {
     false
 }
 
-fn contact_geometry(x: DVec3, r: f64, wall: &MeshWall, c: &Candidate) -> Option<Geometry> {
+fn contact_geometry(x: DVec3, r: f64, mesh: &TriangleMesh, c: &Candidate) -> Option<Geometry> {
     let (normal, overlap) = match c.feature {
         Feature::Face(t) => {
-            let n = wall.normals()[t as usize];
+            let n = mesh.normals()[t as usize];
             (n, r - (x - c.point).dot(n))
         }
         feature => {
-            let pseudo = wall.feature_normal(&feature);
+            let pseudo = mesh.feature_normal(&feature);
             match (x - c.point).try_normalize() {
                 None => (pseudo, r),
-                Some(dir) if wall.is_boundary(&feature) || dir.dot(pseudo) >= 0.0 => {
+                Some(dir) if mesh.is_boundary(&feature) || dir.dot(pseudo) >= 0.0 => {
                     (dir, r - c.distance)
                 }
                 Some(dir) => (-dir, r + c.distance),
@@ -280,7 +280,7 @@ mod tests {
     use crate::narrow_phase::sphere_plane;
     use crate::rng::SplitMix64 as Rng;
     use crate::wall::generators::{box_mesh, rectangle};
-    use crate::wall::Facing;
+    use crate::wall::{Facing, MeshWall};
 
     /// A flat square [-1, 1]² at z = 0 facing +z, of 2 n² triangles.
     fn floor(n: usize) -> MeshWall {
@@ -653,7 +653,7 @@ mod tests {
             previous = Some(g[0].overlap);
         }
         // Treated as separate walls, the sphere over the fold touches both.
-        w.smooth_angle = 0.0;
+        w.set_smooth_angle(0.0);
         assert_eq!(sphere_mesh(DVec3::new(0.0, 0.0, h), r, &w).len(), 2);
     }
 }

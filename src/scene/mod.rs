@@ -10,6 +10,7 @@ mod error;
 pub mod format;
 pub mod insert;
 pub mod shapes;
+mod time_step;
 mod validate;
 pub mod walls;
 
@@ -24,7 +25,7 @@ use crate::shape::{Shape, Sphere};
 use crate::timestep;
 use crate::wall::Plane;
 use crate::world::{World, WorldConfig};
-use format::{NormalModel, SceneFile, TimeStep};
+use format::{NormalModel, SceneFile};
 use insert::Placed;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -89,23 +90,23 @@ impl Prepared {
     /// spheres that fit among the bodies present now.
     pub fn insert_due(&mut self) -> Vec<InsertionReport> {
         let world = &mut self.world;
-        let now = world.time + 0.5 * world.time_step;
+        let now = world.time() + 0.5 * world.time_step();
         let mut reports = Vec::new();
         for s in self.schedule.iter_mut().filter(|s| s.next_time <= now) {
-            let existing: Vec<Placed> = (0..world.bodies.len())
+            let existing: Vec<Placed> = (0..world.bodies().len())
                 .map(|i| Placed {
-                    centre: world.bodies.position[i],
-                    radius: world.bodies.bounding_radius[i],
+                    centre: world.bodies().position[i],
+                    radius: world.bodies().bounding_radius[i],
                 })
                 .collect();
-            let planes = plane_obstacles(&world.planes);
+            let planes = plane_obstacles(world.planes());
             let size = s.shape.as_ref().map(shape_size);
             let (placed, shortfall) = match insert::insert(
                 &s.spec,
                 size,
                 &existing,
                 &planes,
-                &world.mesh_walls,
+                world.mesh_walls(),
                 s.done,
             ) {
                 Ok(placed) => (placed, None),
@@ -123,14 +124,14 @@ impl Prepared {
             }
             reports.push(InsertionReport {
                 index: s.index,
-                time: world.time,
+                time: world.time(),
                 inserted: placed.len(),
                 shortfall,
             });
             s.done += 1;
             let until = s.spec.until.unwrap_or(f64::INFINITY);
             s.next_time = match s.spec.every {
-                Some(every) if s.next_time + every <= until + 0.5 * world.time_step => {
+                Some(every) if s.next_time + every <= until + 0.5 * world.time_step() => {
                     s.next_time + every
                 }
                 _ => f64::INFINITY,
@@ -327,9 +328,20 @@ impl Scene {
             }
         }
 
-        let mut world = World::new(WorldConfig {
-            time_step: 0.0,
-            gravity: DVec3::from(spec.simulation.gravity),
+        let flow_meters = self.flow_meters()?;
+        let gravity = DVec3::from(spec.simulation.gravity);
+        let (time_step, estimate, automatic) = self.time_step(time_step::StepInputs {
+            bodies: &bodies,
+            schedule: &schedule,
+            materials: &materials,
+            planes: &planes,
+            mesh_walls: &mesh_walls,
+            law: normal,
+            gravity,
+        })?;
+        let world = World::new(WorldConfig {
+            time_step,
+            gravity,
             materials,
             pair_laws,
             planes,
@@ -342,78 +354,20 @@ impl Scene {
                 KeyPath::table("simulation").key("threads"),
                 format!("cannot start the worker threads: {e}"),
             )
-        })?;
+        })?
+        .with_polyhedral_law(spec.contact.polyhedra)
+        .with_mesh_walls(mesh_walls)
+        .with_flow_meters(flow_meters);
+        let mut world = match &spec.domain {
+            Some(d) => world.with_domain(crate::math::Aabb::new(
+                DVec3::from(d.min),
+                DVec3::from(d.max),
+            )),
+            None => world,
+        };
         for (init, _) in bodies {
             world.add_body(init);
         }
-        world.polyhedral_law = spec.contact.polyhedra;
-        world.mesh_walls = mesh_walls;
-        world.flow_meters = self.flow_meters()?;
-        world.domain = spec
-            .domain
-            .as_ref()
-            .map(|d| crate::math::Aabb::new(DVec3::from(d.min), DVec3::from(d.max)));
-
-        let time_key = KeyPath::table("simulation").key("time_step");
-        // The step must also suit bodies that arrive later: each scheduled insertion's smallest.
-        let b = &world.bodies;
-        let candidate = |shape: &Shape, mass: f64, material: u32| timestep::Candidate {
-            radius: shape.bounding_radius(),
-            mass,
-            material,
-            polyhedron: shape
-                .largest_face_area()
-                .map(|area| (shape.equivalent_radius(), area)),
-            vertex_springs: shape.largest_face_corners(),
-        };
-        let present = (0..b.len())
-            .map(|i| candidate(&world.shapes[b.shape[i] as usize], b.mass[i], b.material[i]));
-        let arriving = schedule.iter().map(|s| {
-            let density = world.materials[s.material as usize].density;
-            let shape = match &s.shape {
-                Some(built) => built.shape.clone(),
-                None => Shape::Sphere(Sphere::new(insert::smallest_radius(&s.spec, None))),
-            };
-            let mass = density * shape.unit_mass_properties().volume;
-            candidate(&shape, mass, s.material)
-        });
-        let wall_materials: Vec<u32> = world
-            .planes
-            .iter()
-            .map(|p| p.material)
-            .chain(world.mesh_walls.iter().map(|w| w.material))
-            .collect();
-        let conditions = timestep::Conditions {
-            materials: &world.materials,
-            wall_materials: &wall_materials,
-            law: normal,
-            impact_speed: self.impact_speed(&world),
-        };
-        let estimate =
-            timestep::estimate(present.chain(arriving), &conditions).ok_or_else(|| {
-                self.error(
-                time_key.clone(),
-                "the scene has no particles: nothing to simulate (add [[particle]] or [[insert]])",
-            )
-            })?;
-        let (time_step, automatic) = match spec.simulation.time_step {
-            TimeStep::Auto => (estimate.seconds, true),
-            TimeStep::Seconds(dt) => {
-                if dt > estimate.seconds && !spec.simulation.force_time_step {
-                    return Err(self.error(
-                        time_key,
-                        format!(
-                            "{dt:e} s is above the stable estimate {:.4e} s ({}); use a smaller \
-                             step, time_step = \"auto\", or set force_time_step = true to run \
-                             anyway",
-                            estimate.seconds, estimate.reason
-                        ),
-                    ));
-                }
-                (dt, false)
-            }
-        };
-        world.time_step = time_step;
         let duration = spec.simulation.duration;
         Ok(Prepared {
             world,
@@ -435,47 +389,6 @@ impl Scene {
                 .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
                 .collect(),
         })
-    }
-
-    /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
-    /// fall across the whole height of the scene (bodies and insertion regions, along gravity).
-    fn impact_speed(&self, world: &World) -> f64 {
-        let g = world.gravity.length();
-        let down = if g > 0.0 {
-            world.gravity / g
-        } else {
-            DVec3::ZERO
-        };
-        let b = &world.bodies;
-        let mut speed: f64 = b.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
-        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-        for i in 0..b.len() {
-            let h = b.position[i].dot(down);
-            low = low.min(h - b.bounding_radius[i]);
-            high = high.max(h + b.bounding_radius[i]);
-        }
-        for i in &self.spec.insertions {
-            speed = speed.max(DVec3::from(i.velocity).length());
-            let (lo, hi) = (DVec3::from(i.region_min), DVec3::from(i.region_max));
-            for corner in 0..8 {
-                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
-                let p = DVec3::new(
-                    pick(1, lo.x, hi.x),
-                    pick(2, lo.y, hi.y),
-                    pick(4, lo.z, hi.z),
-                );
-                low = low.min(p.dot(down));
-                high = high.max(p.dot(down));
-            }
-        }
-        let height = if high > low { high - low } else { 0.0 };
-        // A body met by a moving wall: the wall's fastest surface point on top.
-        let wall_speed = world
-            .mesh_walls
-            .iter()
-            .map(|w| w.motion.max_surface_speed(w.vertices()))
-            .fold(0.0, f64::max);
-        speed + (2.0 * g * height).sqrt() + wall_speed
     }
 
     /// The `[[output.flow_meter]]`s.

@@ -465,7 +465,7 @@ fn mesh_shape(
                 MeshShapeError::Shape(ShapeError::TooFewPoints { count }) => format!(
                     "{name} has {count} distinct vertices (after welding those closer than {:e} \
                      of its size): a particle needs at least 4",
-                    crate::io::mesh::WELD_TOLERANCE
+                    crate::geometry::weld::WELD_TOLERANCE
                 ),
                 MeshShapeError::Shape(
                     e @ (ShapeError::Coincident | ShapeError::Collinear | ShapeError::Coplanar),

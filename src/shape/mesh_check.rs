@@ -19,7 +19,7 @@
 
 use crate::geometry::bvh::Bvh;
 use crate::geometry::predicates::{collinear, orient2d_projected, orient3d};
-use crate::io::mesh::{weld, WELD_TOLERANCE};
+use crate::geometry::weld::{weld, WELD_TOLERANCE};
 use crate::math::{Aabb, DVec3};
 use std::collections::HashMap;
 use std::fmt::Write;

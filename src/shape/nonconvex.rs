@@ -9,7 +9,7 @@
 //! - a bounding-volume hierarchy over the triangles (`geometry::bvh`): the point-in-polyhedron
 //!   test by ray casting ([`NonConvexPolyhedron::locate`], exact), the nearest point of the
 //!   surface, and the triangles near a box, each in time ~ log(triangles);
-//! - the surface as a [`MeshWall`] in the body frame: its edges with their two triangles, and what
+//! - the surface as a [`TriangleMesh`] in the body frame: its edges with their two triangles, and what
 //!   a sphere needs to touch it in several places at once;
 //! - which edges are sharp (the triangles at them differ in direction by more than
 //!   [`SHARP_EDGE_ANGLE`]): edges inside flat faces split into triangles are not, and take no part
@@ -22,8 +22,8 @@ use super::mesh_check::{check_mesh, CheckOptions, CheckReport, MeshCheckError};
 use super::{ConvexPolyhedron, MassProperties, ShapeError, UnitMassProperties};
 use crate::geometry::bvh::Bvh;
 use crate::geometry::point_in_polyhedron::{locate_point_bvh, Location};
+use crate::geometry::triangle_mesh::TriangleMesh;
 use crate::math::{Aabb, DMat3, DQuat, DVec3};
-use crate::wall::MeshWall;
 use thiserror::Error;
 
 /// Edges whose two triangles' normals differ by more than this angle [rad] (0.5°) are sharp.
@@ -80,7 +80,7 @@ pub struct NonConvexPolyhedron {
     /// Outward unit normal of each triangle.
     normals: Vec<DVec3>,
     /// The surface with its adjacency (edges, their triangles), in the body frame.
-    surface: MeshWall,
+    surface: TriangleMesh,
     /// Per edge of `surface`: whether it is sharp.
     sharp: Vec<bool>,
     bvh: Bvh,
@@ -138,12 +138,11 @@ impl NonConvexPolyhedron {
                 (b - a).cross(c - a).normalize_or_zero()
             })
             .collect();
-        let surface = MeshWall::new(
+        let surface = TriangleMesh::new(
             vertices.clone(),
             triangles.iter().map(|t| t.map(|i| i as u32)).collect(),
-            0,
         )
-        .map_err(|e| ShapeError::InvalidParameter(e.to_string()))?;
+        .map_err(|e| ShapeError::InvalidParameter(format!("the surface {e}")))?;
         let cos_sharp = SHARP_EDGE_ANGLE.cos();
         let sharp: Vec<bool> = (0..surface.edges().len() as u32)
             .map(|e| {
@@ -260,7 +259,7 @@ impl NonConvexPolyhedron {
     }
 
     /// The surface with its adjacency: `edges()`, `triangles_of_edge(e)`, `triangle_edges()`.
-    pub fn surface(&self) -> &MeshWall {
+    pub fn surface(&self) -> &TriangleMesh {
         &self.surface
     }
 
@@ -332,7 +331,7 @@ fn to_body(axes: DMat3, centre: DVec3, x: DVec3) -> DVec3 {
 fn largest_flat_face(
     vertices: &[DVec3],
     triangles: &[[usize; 3]],
-    surface: &MeshWall,
+    surface: &TriangleMesh,
     sharp: &[bool],
 ) -> (f64, usize) {
     let n = triangles.len();

@@ -6,7 +6,7 @@
 //! `Outward` for an obstacle (a box in the flow, the screw).
 
 use super::mesh::{MeshWall, MeshWallError};
-use crate::body::MaterialId;
+use crate::material::MaterialId;
 use crate::math::{is_finite_vec, DQuat, DVec3};
 use std::collections::HashMap;
 use std::f64::consts::TAU;
@@ -163,7 +163,7 @@ impl TriMesh {
             .iter()
             .map(|t| t.map(|i| i as usize))
             .collect();
-        let w = crate::io::mesh::weld(&self.vertices, &triangles, WELD);
+        let w = crate::geometry::weld::weld(&self.vertices, &triangles, WELD);
         Self {
             vertices: w.vertices,
             triangles: w.triangles.iter().map(|t| t.map(|i| i as u32)).collect(),

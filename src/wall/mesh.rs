@@ -1,51 +1,22 @@
-//! Triangle-mesh walls: fixed, indexed triangle meshes that bodies collide with.
+//! Triangle-mesh walls: triangle meshes that bodies collide with, fixed or moving.
 //!
-//! A [`MeshWall`] holds the triangles, one unit normal per triangle (pointing to the side bodies
-//! live on, given by the winding: counter-clockwise seen from that side), the adjacency that the
-//! contact routine needs to tell a face from an edge from a vertex (for each edge its triangles,
-//! for each vertex its triangles, angle-weighted pseudo-normals of edges and vertices), and a
-//! uniform grid of triangle bounding boxes that answers "which triangles are near this sphere".
-//!
-//! The mesh must be welded: triangles that meet share vertex indices (`io::mesh::read_mesh` and
-//! the generators in `wall::generators` give such meshes). Unwelded copies of a vertex make the
-//! contact routine see a boundary where there is none.
+//! A [`MeshWall`] is a [`TriangleMesh`] (triangles, normals, adjacency, grid: `geometry::
+//! triangle_mesh`) with what makes it a wall: its material, its prescribed motion and where that
+//! motion has put it now. The mesh is kept in the wall's reference placement (time 0); the
+//! contact routines take a body into that placement by the wall's pose.
 
 use super::motion::{WallMotion, WallPose};
-use crate::body::MaterialId;
-use crate::io::mesh::ImportedMesh;
-use crate::math::{is_finite_vec, Aabb, DQuat, DVec3};
-use std::collections::HashMap;
+use crate::geometry::triangle_mesh::{TriangleMesh, TriangleMeshError};
+use crate::material::MaterialId;
+use crate::math::{is_finite_vec, DQuat, DVec3};
+use std::ops::Deref;
 use thiserror::Error;
-
-/// A triangle whose area is below this fraction of its longest edge squared is degenerate.
-pub const DEGENERATE_TRIANGLE_RATIO: f64 = 1e-12;
-
-/// Default [`MeshWall::smooth_angle`]: 20°.
-pub const DEFAULT_SMOOTH_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;
 
 /// Why a mesh wall could not be built.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MeshWallError {
-    #[error("a mesh wall needs at least one triangle")]
-    Empty,
-    #[error("mesh wall vertex {index} is [{}, {}, {}]: every coordinate must be a finite number", point.x, point.y, point.z)]
-    NonFiniteVertex { index: usize, point: DVec3 },
-    #[error(
-        "mesh wall triangle {triangle} uses vertex {index}, but there are only {count} vertices"
-    )]
-    IndexOutOfRange {
-        triangle: usize,
-        index: u32,
-        count: usize,
-    },
-    #[error("mesh wall triangle {triangle} uses vertex {index} twice")]
-    RepeatedCorner { triangle: usize, index: u32 },
-    #[error(
-        "mesh wall triangle {triangle} has (almost) zero area {area}: its corners are collinear"
-    )]
-    Degenerate { triangle: usize, area: f64 },
-    #[error("mesh wall has too many vertices or triangles for 32-bit indices")]
-    TooLarge,
+    #[error("mesh wall {0}")]
+    Mesh(#[from] TriangleMeshError),
     #[error("scale = {scale} is not allowed: must be a finite number > 0")]
     Scale { scale: f64 },
     #[error("the rotation of a mesh wall must be a finite unit quaternion")]
@@ -54,216 +25,41 @@ pub enum MeshWallError {
     Translation,
 }
 
-/// A point feature of a mesh: the open interior of a triangle, an edge or a vertex (indices into
-/// the wall's triangles, edges and vertices).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Feature {
-    Face(u32),
-    Edge(u32),
-    Vertex(u32),
-}
-
-/// A fixed wall made of triangles.
+/// A wall made of triangles. Its geometric queries are those of its [`TriangleMesh`], reached
+/// through `Deref` (`wall.corners(t)`, `wall.triangles_near(..)`): a wall *is* its surface, plus
+/// a material and a motion.
 #[derive(Clone, Debug)]
 pub struct MeshWall {
-    vertices: Vec<DVec3>,
-    triangles: Vec<[u32; 3]>,
-    normals: Vec<DVec3>,
+    surface: TriangleMesh,
     pub material: MaterialId,
-    /// Faces whose normals differ by less than this angle [rad] are facets of one smooth
-    /// surface: a sphere touching several of them gets one contact, the deepest (a sphere in a
-    /// faceted drum or on a coarse helicoid is not pushed once per facet). Faces meeting at a
-    /// sharper angle are separate walls (a box's corner pushes once per wall).
-    pub smooth_angle: f64,
-    /// Each edge's two vertices, smaller index first.
-    edges: Vec<[u32; 2]>,
-    /// For each triangle the edge between its corners k and k+1 (mod 3), k = 0, 1, 2.
-    triangle_edges: Vec<[u32; 3]>,
-    /// Compressed rows: the triangles of edge e are `edge_triangles[edge_start[e]..edge_start[e+1]]`.
-    edge_start: Vec<u32>,
-    edge_triangles: Vec<u32>,
-    /// Compressed rows: the triangles of vertex v.
-    vertex_start: Vec<u32>,
-    vertex_triangles: Vec<u32>,
-    /// Unit pseudo-normals (sum of the adjacent triangles' normals, for vertices weighted by the
-    /// corner angle; Bærentzen & Aanæs 2005): which side of the surface a point near an edge or
-    /// vertex is on.
-    edge_normals: Vec<DVec3>,
-    vertex_normals: Vec<DVec3>,
-    /// Vertices on an edge that does not have exactly two triangles (the rim of an open mesh).
-    vertex_on_boundary: Vec<bool>,
-    bounds: Aabb,
-    grid: TriangleGrid,
-    /// How the wall moves; its triangles above are in the placement of time 0.
+    /// How the wall moves; its triangles are in the placement of time 0.
     pub motion: WallMotion,
     /// Where the wall is now (see [`MeshWall::set_time`]).
     pose: WallPose,
 }
 
+impl Deref for MeshWall {
+    type Target = TriangleMesh;
+
+    fn deref(&self) -> &TriangleMesh {
+        &self.surface
+    }
+}
+
 impl MeshWall {
-    /// Builds a wall from vertices and triangles (indices into `vertices`, counter-clockwise seen
-    /// from the side bodies live on). Vertices no triangle uses are kept but never touched.
+    /// Builds a fixed wall from vertices and triangles (indices into `vertices`, counter-clockwise
+    /// seen from the side bodies live on); see [`TriangleMesh::new`].
     pub fn new(
         vertices: Vec<DVec3>,
         triangles: Vec<[u32; 3]>,
         material: MaterialId,
     ) -> Result<Self, MeshWallError> {
-        if triangles.is_empty() {
-            return Err(MeshWallError::Empty);
-        }
-        if vertices.len() >= u32::MAX as usize || triangles.len() >= u32::MAX as usize {
-            return Err(MeshWallError::TooLarge);
-        }
-        if let Some((index, &point)) = vertices
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !is_finite_vec(**v))
-        {
-            return Err(MeshWallError::NonFiniteVertex { index, point });
-        }
-        let mut normals = Vec::with_capacity(triangles.len());
-        for (t, tri) in triangles.iter().enumerate() {
-            for &i in tri {
-                if i as usize >= vertices.len() {
-                    return Err(MeshWallError::IndexOutOfRange {
-                        triangle: t,
-                        index: i,
-                        count: vertices.len(),
-                    });
-                }
-            }
-            if tri[0] == tri[1] || tri[0] == tri[2] {
-                return Err(MeshWallError::RepeatedCorner {
-                    triangle: t,
-                    index: tri[0],
-                });
-            }
-            if tri[1] == tri[2] {
-                return Err(MeshWallError::RepeatedCorner {
-                    triangle: t,
-                    index: tri[1],
-                });
-            }
-            let [a, b, c] = tri.map(|i| vertices[i as usize]);
-            let cross = (b - a).cross(c - a);
-            let longest = (b - a)
-                .length_squared()
-                .max((c - b).length_squared())
-                .max((a - c).length_squared());
-            let twice_area = cross.length();
-            // The corners are finite, so the area is a number.
-            if twice_area <= DEGENERATE_TRIANGLE_RATIO * longest {
-                return Err(MeshWallError::Degenerate {
-                    triangle: t,
-                    area: 0.5 * twice_area,
-                });
-            }
-            normals.push(cross / twice_area);
-        }
-
-        // Edges, numbered in order of first appearance.
-        let mut edge_index: HashMap<[u32; 2], u32> = HashMap::new();
-        let mut edges = Vec::new();
-        let mut triangle_edges = Vec::with_capacity(triangles.len());
-        for tri in &triangles {
-            let mut te = [0u32; 3];
-            for k in 0..3 {
-                let (i, j) = (tri[k], tri[(k + 1) % 3]);
-                let key = [i.min(j), i.max(j)];
-                te[k] = *edge_index.entry(key).or_insert_with(|| {
-                    edges.push(key);
-                    (edges.len() - 1) as u32
-                });
-            }
-            triangle_edges.push(te);
-        }
-        let (edge_start, edge_triangles) = compressed_rows(
-            edges.len(),
-            triangle_edges
-                .iter()
-                .enumerate()
-                .flat_map(|(t, te)| te.iter().map(move |&e| (e, t as u32))),
-        );
-        let (vertex_start, vertex_triangles) = compressed_rows(
-            vertices.len(),
-            triangles
-                .iter()
-                .enumerate()
-                .flat_map(|(t, tri)| tri.iter().map(move |&v| (v, t as u32))),
-        );
-
-        let edge_normals = (0..edges.len())
-            .map(|e| {
-                let ts = &edge_triangles[edge_start[e] as usize..edge_start[e + 1] as usize];
-                ts.iter()
-                    .map(|&t| normals[t as usize])
-                    .sum::<DVec3>()
-                    .try_normalize()
-                    .unwrap_or(normals[ts[0] as usize])
-            })
-            .collect();
-        let mut vertex_normals = vec![DVec3::ZERO; vertices.len()];
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let p = vertices[tri[k] as usize];
-                let u = vertices[tri[(k + 1) % 3] as usize] - p;
-                let w = vertices[tri[(k + 2) % 3] as usize] - p;
-                vertex_normals[tri[k] as usize] += u.angle_between(w) * normals[t];
-            }
-        }
-        for (v, n) in vertex_normals.iter_mut().enumerate() {
-            let first = vertex_triangles
-                .get(vertex_start[v] as usize)
-                .filter(|_| vertex_start[v] < vertex_start[v + 1]);
-            *n = n
-                .try_normalize()
-                .unwrap_or_else(|| first.map_or(DVec3::Z, |&t| normals[t as usize]));
-        }
-
-        let mut vertex_on_boundary = vec![false; vertices.len()];
-        for (e, ends) in edges.iter().enumerate() {
-            if edge_start[e + 1] - edge_start[e] != 2 {
-                for &v in ends {
-                    vertex_on_boundary[v as usize] = true;
-                }
-            }
-        }
-
-        let bounds = triangles
-            .iter()
-            .map(|tri| triangle_bounds(&vertices, tri))
-            .reduce(|a, b| a.union(&b))
-            .expect("at least one triangle");
-        let grid = TriangleGrid::new(&vertices, &triangles, bounds);
         Ok(Self {
-            vertices,
-            triangles,
-            normals,
+            surface: TriangleMesh::new(vertices, triangles)?,
             material,
-            smooth_angle: DEFAULT_SMOOTH_ANGLE,
-            edges,
-            triangle_edges,
-            edge_start,
-            edge_triangles,
-            vertex_start,
-            vertex_triangles,
-            edge_normals,
-            vertex_normals,
-            vertex_on_boundary,
-            bounds,
-            grid,
             motion: WallMotion::fixed(),
             pose: WallPose::IDENTITY,
         })
-    }
-
-    /// A wall from a mesh read by `io::mesh::read_mesh` (already welded and scaled).
-    pub fn from_imported(mesh: &ImportedMesh, material: MaterialId) -> Result<Self, MeshWallError> {
-        if mesh.vertices.len() >= u32::MAX as usize {
-            return Err(MeshWallError::TooLarge);
-        }
-        let triangles = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
-        Self::new(mesh.vertices.clone(), triangles, material)
     }
 
     /// The wall with every vertex x moved to `rotation * (scale * x) + translation`.
@@ -282,20 +78,17 @@ impl MeshWall {
         if !is_finite_vec(translation) {
             return Err(MeshWallError::Translation);
         }
-        let vertices = self
-            .vertices
-            .iter()
-            .map(|&v| rotation * (scale * v) + translation)
-            .collect();
-        let mut moved = Self::new(vertices, self.triangles.clone(), self.material)?;
-        moved.smooth_angle = self.smooth_angle;
-        moved.motion = self.motion.clone();
-        Ok(moved)
+        Ok(Self {
+            surface: self.surface.transformed(scale, rotation, translation)?,
+            material: self.material,
+            motion: self.motion.clone(),
+            pose: WallPose::IDENTITY,
+        })
     }
 
-    /// The vertices in the reference placement (time 0); see [`MeshWall::pose`].
-    pub fn vertices(&self) -> &[DVec3] {
-        &self.vertices
+    /// See [`TriangleMesh::smooth_angle`].
+    pub fn set_smooth_angle(&mut self, angle: f64) {
+        self.surface.set_smooth_angle(angle);
     }
 
     /// Where the wall is now: reference placement → world.
@@ -311,266 +104,7 @@ impl MeshWall {
     /// The vertices where the wall is now.
     pub fn current_vertices(&self) -> impl Iterator<Item = DVec3> + '_ {
         let pose = self.pose;
-        self.vertices.iter().map(move |&v| pose.to_world(v))
-    }
-
-    pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
-    }
-
-    /// Unit normal of each triangle, towards the side bodies live on.
-    pub fn normals(&self) -> &[DVec3] {
-        &self.normals
-    }
-
-    /// Each edge's two vertices, smaller index first.
-    pub fn edges(&self) -> &[[u32; 2]] {
-        &self.edges
-    }
-
-    /// For each triangle, its edges between corners (0,1), (1,2), (2,0).
-    pub fn triangle_edges(&self) -> &[[u32; 3]] {
-        &self.triangle_edges
-    }
-
-    /// The triangles sharing edge `e` (two for an interior edge of a manifold mesh).
-    pub fn triangles_of_edge(&self, e: u32) -> &[u32] {
-        let e = e as usize;
-        &self.edge_triangles[self.edge_start[e] as usize..self.edge_start[e + 1] as usize]
-    }
-
-    /// The triangles with vertex `v` as a corner, in increasing order.
-    pub fn triangles_of_vertex(&self, v: u32) -> &[u32] {
-        let v = v as usize;
-        &self.vertex_triangles[self.vertex_start[v] as usize..self.vertex_start[v + 1] as usize]
-    }
-
-    /// The triangles whose closure holds a point of `feature`, in increasing order.
-    pub fn triangles_of_feature(&self, feature: &Feature) -> &[u32] {
-        match *feature {
-            Feature::Face(t) => std::slice::from_ref(&self.triangles_index()[t as usize]),
-            Feature::Edge(e) => self.triangles_of_edge(e),
-            Feature::Vertex(v) => self.triangles_of_vertex(v),
-        }
-    }
-
-    /// Unit pseudo-normal of an edge (the normalised sum of its triangles' normals).
-    pub fn edge_normal(&self, e: u32) -> DVec3 {
-        self.edge_normals[e as usize]
-    }
-
-    /// Unit angle-weighted pseudo-normal of a vertex.
-    pub fn vertex_normal(&self, v: u32) -> DVec3 {
-        self.vertex_normals[v as usize]
-    }
-
-    /// The pseudo-normal of a feature (a face's own normal).
-    pub fn feature_normal(&self, feature: &Feature) -> DVec3 {
-        match *feature {
-            Feature::Face(t) => self.normals[t as usize],
-            Feature::Edge(e) => self.edge_normal(e),
-            Feature::Vertex(v) => self.vertex_normal(v),
-        }
-    }
-
-    /// True for an edge or vertex on the rim of an open mesh (an edge without exactly two
-    /// triangles, or a vertex on such an edge); never for a face.
-    pub fn is_boundary(&self, feature: &Feature) -> bool {
-        match *feature {
-            Feature::Face(_) => false,
-            Feature::Edge(e) => self.triangles_of_edge(e).len() != 2,
-            Feature::Vertex(v) => self.vertex_on_boundary[v as usize],
-        }
-    }
-
-    /// The three corners of triangle `t`.
-    pub fn corners(&self, t: u32) -> [DVec3; 3] {
-        self.triangles[t as usize].map(|i| self.vertices[i as usize])
-    }
-
-    /// Bounding box of all triangles.
-    pub fn bounds(&self) -> Aabb {
-        self.bounds
-    }
-
-    /// Total area of the triangles.
-    pub fn area(&self) -> f64 {
-        (0..self.triangles.len() as u32)
-            .map(|t| {
-                let [a, b, c] = self.corners(t);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum()
-    }
-
-    /// True when every edge is shared by exactly two triangles.
-    pub fn is_closed(&self) -> bool {
-        self.edge_start.windows(2).all(|w| w[1] - w[0] == 2)
-    }
-
-    /// Appends to `out` (cleared first), in increasing order and without repeats, the triangles
-    /// whose bounding boxes overlap `query`: a superset of the triangles that meet it.
-    pub fn triangles_near(&self, query: &Aabb, out: &mut Vec<u32>) {
-        out.clear();
-        self.grid.query(query, out);
-    }
-
-    /// Whether some triangle's bounding box overlaps `query` (no triangle near: nothing to touch).
-    pub fn has_triangles_near(&self, query: &Aabb) -> bool {
-        self.grid.any(query)
-    }
-
-    /// Identity map 0..n, so that a face feature can lend out a one-element slice.
-    fn triangles_index(&self) -> &[u32] {
-        &self.grid.identity
-    }
-}
-
-fn triangle_bounds(vertices: &[DVec3], tri: &[u32; 3]) -> Aabb {
-    let [a, b, c] = tri.map(|i| vertices[i as usize]);
-    Aabb::new(a.min(b).min(c), a.max(b).max(c))
-}
-
-/// Compressed rows from (row, value) pairs; values keep their input order within a row.
-fn compressed_rows(
-    rows: usize,
-    pairs: impl Iterator<Item = (u32, u32)> + Clone,
-) -> (Vec<u32>, Vec<u32>) {
-    let mut start = vec![0u32; rows + 1];
-    for (r, _) in pairs.clone() {
-        start[r as usize + 1] += 1;
-    }
-    for i in 0..rows {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut values = vec![0u32; start[rows] as usize];
-    for (r, v) in pairs {
-        values[fill[r as usize] as usize] = v;
-        fill[r as usize] += 1;
-    }
-    (start, values)
-}
-
-/// A uniform grid over the mesh's bounding box; each cell lists the triangles whose bounding box
-/// overlaps it. The cell width is the mean largest extent of a triangle's bounding box (at least
-/// 1/256 of the largest extent of the mesh, so the grid has at most 256 cells along an axis).
-#[derive(Clone, Debug)]
-struct TriangleGrid {
-    origin: DVec3,
-    inverse_cell: f64,
-    dims: [usize; 3],
-    start: Vec<u32>,
-    items: Vec<u32>,
-    identity: Vec<u32>,
-    /// Each triangle's bounding box: a query returns only the triangles whose box meets it, not
-    /// every triangle of the cells it covers (cells are as large as the largest triangles, so on
-    /// a mesh of mixed sizes a cell can hold many small ones far from the query).
-    boxes: Vec<Aabb>,
-}
-
-impl TriangleGrid {
-    const MAX_CELLS_PER_AXIS: usize = 256;
-
-    fn new(vertices: &[DVec3], triangles: &[[u32; 3]], bounds: Aabb) -> Self {
-        let boxes: Vec<Aabb> = triangles
-            .iter()
-            .map(|t| triangle_bounds(vertices, t))
-            .collect();
-        let mean = boxes.iter().map(|b| b.extent().max_element()).sum::<f64>() / boxes.len() as f64;
-        let extent = bounds.extent();
-        let largest = extent.max_element();
-        let cell = mean
-            .max(largest / Self::MAX_CELLS_PER_AXIS as f64)
-            .max(f64::MIN_POSITIVE);
-        let dims = [extent.x, extent.y, extent.z]
-            .map(|e| ((e / cell).floor() as usize + 1).min(Self::MAX_CELLS_PER_AXIS));
-        let mut grid = Self {
-            origin: bounds.min,
-            inverse_cell: 1.0 / cell,
-            dims,
-            start: Vec::new(),
-            items: Vec::new(),
-            identity: (0..triangles.len() as u32).collect(),
-            boxes: Vec::new(),
-        };
-        let count = dims[0] * dims[1] * dims[2];
-        let pairs: Vec<(u32, u32)> = boxes
-            .iter()
-            .enumerate()
-            .flat_map(|(t, b)| {
-                let (lo, hi) = grid
-                    .cell_range(b)
-                    .expect("a triangle lies inside the mesh bounds");
-                let dims = grid.dims;
-                (lo[2]..=hi[2]).flat_map(move |k| {
-                    (lo[1]..=hi[1]).flat_map(move |j| {
-                        (lo[0]..=hi[0])
-                            .map(move |i| (((k * dims[1] + j) * dims[0] + i) as u32, t as u32))
-                    })
-                })
-            })
-            .collect();
-        let (start, items) = compressed_rows(count, pairs.iter().copied());
-        grid.start = start;
-        grid.items = items;
-        grid.boxes = boxes;
-        grid
-    }
-
-    /// The cells a box covers (clamped to the grid), or `None` if it misses the grid.
-    fn cell_range(&self, b: &Aabb) -> Option<([usize; 3], [usize; 3])> {
-        let lo = (b.min - self.origin) * self.inverse_cell;
-        let hi = (b.max - self.origin) * self.inverse_cell;
-        let mut out_lo = [0usize; 3];
-        let mut out_hi = [0usize; 3];
-        for a in 0..3 {
-            let n = self.dims[a] as f64;
-            // Closed intervals: a box touching the grid's far face still meets the last cell.
-            if !(hi[a] >= 0.0 && lo[a] <= n) {
-                return None;
-            }
-            out_lo[a] = (lo[a].max(0.0).floor() as usize).min(self.dims[a] - 1);
-            out_hi[a] = (hi[a].max(0.0).floor() as usize).min(self.dims[a] - 1);
-        }
-        Some((out_lo, out_hi))
-    }
-
-    fn query(&self, b: &Aabb, out: &mut Vec<u32>) {
-        let Some((lo, hi)) = self.cell_range(b) else {
-            return;
-        };
-        for k in lo[2]..=hi[2] {
-            for j in lo[1]..=hi[1] {
-                for i in lo[0]..=hi[0] {
-                    let c = (k * self.dims[1] + j) * self.dims[0] + i;
-                    out.extend(
-                        self.items[self.start[c] as usize..self.start[c + 1] as usize]
-                            .iter()
-                            .filter(|&&t| self.boxes[t as usize].overlaps(b)),
-                    );
-                }
-            }
-        }
-        out.sort_unstable();
-        out.dedup();
-    }
-
-    /// Whether any triangle's box overlaps `b` (as [`TriangleGrid::query`] without the list).
-    fn any(&self, b: &Aabb) -> bool {
-        let Some((lo, hi)) = self.cell_range(b) else {
-            return false;
-        };
-        (lo[2]..=hi[2]).any(|k| {
-            (lo[1]..=hi[1]).any(|j| {
-                (lo[0]..=hi[0]).any(|i| {
-                    let c = (k * self.dims[1] + j) * self.dims[0] + i;
-                    self.items[self.start[c] as usize..self.start[c + 1] as usize]
-                        .iter()
-                        .any(|&t| self.boxes[t as usize].overlaps(b))
-                })
-            })
-        })
+        self.vertices().iter().map(move |&v| pose.to_world(v))
     }
 }
 
@@ -591,57 +125,24 @@ mod tests {
     }
 
     #[test]
-    fn adjacency_of_a_square() {
+    fn a_wall_keeps_its_material() {
         let (v, t) = square();
         let w = MeshWall::new(v, t, 3).unwrap();
         assert_eq!(w.material, 3);
-        assert_eq!(w.edges().len(), 5);
-        assert_eq!(w.normals(), &[DVec3::Z, DVec3::Z]);
-        let diagonal = w.triangle_edges()[0][2];
-        assert_eq!(w.edges()[diagonal as usize], [0, 2]);
-        assert_eq!(w.triangles_of_edge(diagonal), &[0, 1]);
-        assert_eq!(w.triangles_of_vertex(0), &[0, 1]);
-        assert_eq!(w.triangles_of_vertex(1), &[0]);
-        assert_eq!(w.triangles_of_feature(&Feature::Face(1)), &[1]);
-        assert!((w.vertex_normal(0) - DVec3::Z).length() < 1e-15);
-        assert!(!w.is_closed());
-        assert!(!w.is_boundary(&Feature::Edge(diagonal)));
-        assert!(w.is_boundary(&Feature::Edge(w.triangle_edges()[0][0])));
-        assert!(w.is_boundary(&Feature::Vertex(0)));
-        assert!((w.area() - 1.0).abs() < 1e-15);
     }
 
     #[test]
-    fn rejects_bad_input_naming_the_triangle() {
-        let (mut v, t) = square();
+    fn errors_name_the_mesh_wall() {
+        let (v, _) = square();
+        let err = MeshWall::new(v, vec![[0, 1, 2], [0, 1, 1]], 0).unwrap_err();
         assert_eq!(
-            MeshWall::new(v.clone(), vec![[0, 1, 2], [0, 1, 1]], 0).unwrap_err(),
-            MeshWallError::RepeatedCorner {
+            err,
+            MeshWallError::Mesh(TriangleMeshError::RepeatedCorner {
                 triangle: 1,
                 index: 1
-            }
-        );
-        assert!(matches!(
-            MeshWall::new(v.clone(), vec![[0, 1, 9]], 0),
-            Err(MeshWallError::IndexOutOfRange {
-                triangle: 0,
-                index: 9,
-                ..
             })
-        ));
-        v.push(DVec3::new(2.0, 0.0, 0.0));
-        let err = MeshWall::new(v.clone(), vec![[0, 1, 2], [0, 1, 4]], 0).unwrap_err();
-        assert!(matches!(err, MeshWallError::Degenerate { triangle: 1, .. }));
-        assert!(err.to_string().contains("triangle 1"));
-        v[4] = DVec3::new(f64::NAN, 0.0, 0.0);
-        assert!(matches!(
-            MeshWall::new(v, t, 0),
-            Err(MeshWallError::NonFiniteVertex { index: 4, .. })
-        ));
-        assert_eq!(
-            MeshWall::new(vec![], vec![], 0).unwrap_err(),
-            MeshWallError::Empty
         );
+        assert_eq!(err.to_string(), "mesh wall triangle 1 uses vertex 1 twice");
     }
 
     #[test]
@@ -657,43 +158,5 @@ mod tests {
         assert!(w
             .transformed(1.0, DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0), DVec3::ZERO)
             .is_err());
-    }
-
-    #[test]
-    fn grid_finds_every_triangle_that_a_box_meets() {
-        // A fine, tilted, wavy sheet: compare the grid with brute force.
-        let n = 20;
-        let mut v = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
-                v.push(DVec3::new(x, y, 0.3 * x + 0.1 * (7.0 * y).sin()));
-            }
-        }
-        let mut t = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let a = (j * (n + 1) + i) as u32;
-                let (b, c, d) = (a + 1, a + n as u32 + 2, a + n as u32 + 1);
-                t.push([a, b, c]);
-                t.push([a, c, d]);
-            }
-        }
-        let w = MeshWall::new(v.clone(), t.clone(), 0).unwrap();
-        let mut rng = crate::rng::SplitMix64::new(7);
-        let mut found = Vec::new();
-        for _ in 0..300 {
-            let c = DVec3::new(
-                rng.uniform(-0.2, 1.2),
-                rng.uniform(-0.2, 1.2),
-                rng.uniform(-0.3, 0.6),
-            );
-            let q = Aabb::around_sphere(c, rng.uniform(0.001, 0.2));
-            w.triangles_near(&q, &mut found);
-            let brute: Vec<u32> = (0..t.len() as u32)
-                .filter(|&i| triangle_bounds(&v, &t[i as usize]).overlaps(&q))
-                .collect();
-            assert_eq!(found, brute);
-        }
     }
 }

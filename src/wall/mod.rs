@@ -6,6 +6,6 @@ mod motion;
 mod plane;
 
 pub use generators::{Casing, Ends, Facing, GeneratorError, Hand, Screw, ScrewPart, TriMesh};
-pub use mesh::{Feature, MeshWall, MeshWallError, DEFAULT_SMOOTH_ANGLE};
+pub use mesh::{MeshWall, MeshWallError};
 pub use motion::{MotionError, WallMotion, WallPose, WallState};
 pub use plane::Plane;

@@ -1,4 +1,4 @@
-use crate::body::MaterialId;
+use crate::material::MaterialId;
 use crate::math::DVec3;
 
 /// An infinite plane wall; bodies live on the side its normal points to.

@@ -1,0 +1,140 @@
+//! Choosing a scene's time step: the stable estimate for the bodies placed at the start and those
+//! its insertions will bring, checked against the step the user asked for. Done before the world
+//! is built, so that the world starts with the step it runs with.
+
+use super::format::TimeStep;
+use super::{insert, KeyPath, Scene, SceneError, ScheduledInsertion};
+use crate::body::BodyInit;
+use crate::contact_law::NormalLaw;
+use crate::material::Material;
+use crate::math::DVec3;
+use crate::shape::{Shape, Sphere};
+use crate::timestep;
+use crate::wall::{MeshWall, Plane};
+
+/// What the time step depends on, built before the world.
+pub(super) struct StepInputs<'a> {
+    pub bodies: &'a [(BodyInit, KeyPath)],
+    pub schedule: &'a [ScheduledInsertion],
+    pub materials: &'a [Material],
+    pub planes: &'a [Plane],
+    pub mesh_walls: &'a [MeshWall],
+    pub law: NormalLaw,
+    pub gravity: DVec3,
+}
+
+impl Scene {
+    /// The time step to run with, the stable estimate, and whether the step was chosen
+    /// automatically; an error if there is nothing to simulate or the user's step is above the
+    /// estimate (unless forced).
+    pub(super) fn time_step(
+        &self,
+        inputs: StepInputs,
+    ) -> Result<(f64, timestep::Estimate, bool), SceneError> {
+        let spec = &self.spec;
+        let time_key = KeyPath::table("simulation").key("time_step");
+        // The step must also suit bodies that arrive later: each scheduled insertion's smallest.
+        let candidate = |shape: &Shape, mass: f64, material: u32| timestep::Candidate {
+            radius: shape.bounding_radius(),
+            mass,
+            material,
+            polyhedron: shape
+                .largest_face_area()
+                .map(|area| (shape.equivalent_radius(), area)),
+            vertex_springs: shape.largest_face_corners(),
+        };
+        // As `World::add_body` will weigh them.
+        let mass = |shape: &Shape, material: u32| {
+            inputs.materials[material as usize].density * shape.unit_mass_properties().volume
+        };
+        let present = inputs.bodies.iter().map(|(init, _)| {
+            candidate(&init.shape, mass(&init.shape, init.material), init.material)
+        });
+        let arriving = inputs.schedule.iter().map(|s| {
+            let shape = match &s.shape {
+                Some(built) => built.shape.clone(),
+                None => Shape::Sphere(Sphere::new(insert::smallest_radius(&s.spec, None))),
+            };
+            candidate(&shape, mass(&shape, s.material), s.material)
+        });
+        let wall_materials: Vec<u32> = inputs
+            .planes
+            .iter()
+            .map(|p| p.material)
+            .chain(inputs.mesh_walls.iter().map(|w| w.material))
+            .collect();
+        let conditions = timestep::Conditions {
+            materials: inputs.materials,
+            wall_materials: &wall_materials,
+            law: inputs.law,
+            impact_speed: self.impact_speed(inputs.gravity, inputs.bodies, inputs.mesh_walls),
+        };
+        let estimate =
+            timestep::estimate(present.chain(arriving), &conditions).ok_or_else(|| {
+                self.error(
+                time_key.clone(),
+                "the scene has no particles: nothing to simulate (add [[particle]] or [[insert]])",
+            )
+            })?;
+        match spec.simulation.time_step {
+            TimeStep::Auto => Ok((estimate.seconds, estimate, true)),
+            TimeStep::Seconds(dt) => {
+                if dt > estimate.seconds && !spec.simulation.force_time_step {
+                    return Err(self.error(
+                        time_key,
+                        format!(
+                            "{dt:e} s is above the stable estimate {:.4e} s ({}); use a smaller \
+                             step, time_step = \"auto\", or set force_time_step = true to run \
+                             anyway",
+                            estimate.seconds, estimate.reason
+                        ),
+                    ));
+                }
+                Ok((dt, estimate, false))
+            }
+        }
+    }
+
+    /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
+    /// fall across the whole height of the scene (bodies and insertion regions, along gravity).
+    fn impact_speed(
+        &self,
+        gravity: DVec3,
+        bodies: &[(BodyInit, KeyPath)],
+        mesh_walls: &[MeshWall],
+    ) -> f64 {
+        let g = gravity.length();
+        let down = if g > 0.0 { gravity / g } else { DVec3::ZERO };
+        let mut speed: f64 = bodies
+            .iter()
+            .map(|(b, _)| b.velocity.length())
+            .fold(0.0, f64::max);
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (b, _) in bodies {
+            let (h, radius) = (b.position.dot(down), b.shape.bounding_radius());
+            low = low.min(h - radius);
+            high = high.max(h + radius);
+        }
+        for i in &self.spec.insertions {
+            speed = speed.max(DVec3::from(i.velocity).length());
+            let (lo, hi) = (DVec3::from(i.region_min), DVec3::from(i.region_max));
+            for corner in 0..8 {
+                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+                let p = DVec3::new(
+                    pick(1, lo.x, hi.x),
+                    pick(2, lo.y, hi.y),
+                    pick(4, lo.z, hi.z),
+                );
+                low = low.min(p.dot(down));
+                high = high.max(p.dot(down));
+            }
+        }
+        let height = if high > low { high - low } else { 0.0 };
+        // A body met by a moving wall: the wall's fastest surface point on top.
+        let wall_speed = mesh_walls
+            .iter()
+            .map(|w| w.motion.max_surface_speed(w.vertices()))
+            .fold(0.0, f64::max);
+        speed + (2.0 * g * height).sqrt() + wall_speed
+    }
+}
