@@ -261,7 +261,7 @@ impl World {
             self.update_forces(0.0, None);
         }
         if self.sort_interval > 0
-            && self.steps_done % self.sort_interval == 0
+            && self.steps_done.is_multiple_of(self.sort_interval)
             && self.bodies.len() >= space_order::SORT_MIN_BODIES
         {
             self.sort_bodies_in_space();
