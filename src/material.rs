@@ -112,5 +112,11 @@ fn mix(a: &Material, b: &Material, normal: NormalLaw, tangential_stiffness_ratio
         tangential_stiffness_ratio,
         damping: 0.0,
         damping_volume: 0.0,
+        // Mindlin's k_t = 8 G* a over Hertz's S_n = 2 E* a; the other laws set k_t/S_n.
+        tangential_damping_ratio: match normal {
+            NormalLaw::Hertz => (4.0 * inv_e / inv_g).sqrt(),
+            NormalLaw::Linear { .. } => tangential_stiffness_ratio.sqrt(),
+        },
+        tangential_damping_ratio_volume: tangential_stiffness_ratio.sqrt(),
     }
 }

@@ -292,7 +292,7 @@ impl World {
             report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
         }
         for c in world.contacts().iter() {
-            report.elastic += c.response.elastic_energy;
+            report.elastic += c.report.elastic_energy;
         }
         report
     }

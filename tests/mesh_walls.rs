@@ -52,7 +52,7 @@ fn normal_force(w: &World) -> f64 {
     w.contacts()
         .iter()
         .filter(|c| c.key.partner.is_wall())
-        .map(|c| c.response.normal_force)
+        .map(|c| c.report.normal_force)
         .sum()
 }
 

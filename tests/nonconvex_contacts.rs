@@ -95,7 +95,7 @@ rotation = [{rx}, {ry}, {rz}]
             c.key.region,
             c.geometry.point.to_array(),
             c.geometry.normal.to_array(),
-            c.response.normal_force
+            c.report.normal_force
         );
     }
     assert_eq!(pair.len(), 2, "two regions");
@@ -105,12 +105,12 @@ rotation = [{rx}, {ry}, {rz}]
     for c in &pair {
         assert!((c.geometry.normal.z + std::f64::consts::FRAC_1_SQRT_2).abs() < 0.01);
         assert!(
-            c.response.normal_force > 0.25 * weight,
+            c.report.normal_force > 0.25 * weight,
             "{}",
-            c.response.normal_force
+            c.report.normal_force
         );
     }
-    let (f0, f1) = (pair[0].response.normal_force, pair[1].response.normal_force);
+    let (f0, f1) = (pair[0].report.normal_force, pair[1].report.normal_force);
     assert!((f0 / f1 - 1.0).abs() < 0.01, "{f0} vs {f1}");
     // Each region keeps its slot, and with it its friction spring (part of the weight hangs on
     // friction), step after step.
@@ -144,7 +144,7 @@ rotation = [{rx}, {ry}, {rz}]
         assert!((c.history.tangential_spring - spring).length() < 1e-3 * spring.length());
     }
     // At rest: the two regions carry the weight (the force on the upper cross, body 1).
-    let on_upper: DVec3 = pair.iter().map(|c| -c.response.force).sum();
+    let on_upper: DVec3 = pair.iter().map(|c| -c.load.force).sum();
     assert!(
         (on_upper - DVec3::Z * weight).length() < 1e-3 * weight,
         "{on_upper}"

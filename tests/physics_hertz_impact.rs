@@ -71,7 +71,7 @@ fn measure(w: &mut World, overlap: impl Fn(&World) -> f64) -> (f64, f64, f64) {
     let contact_force = |w: &World| {
         w.contacts()
             .iter()
-            .map(|c| c.response.normal_force)
+            .map(|c| c.report.normal_force)
             .sum::<f64>()
     };
     let mut samples: Vec<(f64, f64, f64)> = vec![(w.time(), overlap(w), contact_force(w))];

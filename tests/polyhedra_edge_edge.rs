@@ -155,7 +155,7 @@ fn crossed_edges_repel_along_the_line_through_them() {
     let e_star = YOUNG / (2.0 * (1.0 - POISSON * POISSON));
     let r_eq = (3.0 * EDGE.powi(3) / (4.0 * PI)).cbrt();
     let force = winkler_force(&p);
-    let f = c.response.force;
+    let f = c.load.force;
     println!(
         "V = {:.6e} m³ (2s³/3 = {volume:.6e}), area {:.6e} m² (2s² = {area:.6e}), depth {:.6e} m \
          (s/3 = {:.6e}), centroid {:?}, force on A {f:?} (|F| expected {force:.6e} N)",

@@ -207,7 +207,7 @@ fn cubes_come_to_rest_and_stay() {
         assert!((ov.area / area - 1.0).abs() < 1e-9, "area {}", ov.area);
         check(
             &format!("cube {} on the floor", c.key.a),
-            c.response.force,
+            c.load.force,
             ov.volume,
             area,
             c.geometry.overlap,
@@ -230,7 +230,7 @@ fn cubes_come_to_rest_and_stay() {
         );
         check(
             &format!("cube {:?} on cube {}", c.key.partner, c.key.a),
-            c.response.force,
+            c.load.force,
             ov.volume,
             area,
             c.geometry.overlap,

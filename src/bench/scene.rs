@@ -203,9 +203,10 @@ pub fn run(
     let counts = contact_counts(world);
     progress(&format!(
         "step {window_start} after {seconds_before_window:.2} s: {} body-body contacts, {} wall \
-         contacts, kinetic energy {:.4e} J",
+         contacts ({} candidates), kinetic energy {:.4e} J",
         counts.body_body,
         counts.body_wall,
+        world.contacts().entries(),
         kinetic_energy(world)
     ));
     let window = Instant::now();

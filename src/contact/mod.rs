@@ -2,10 +2,12 @@
 //! from step to step (see [`ContactStore`]).
 
 mod key;
+mod load;
 mod regions;
 mod store;
 
 pub use key::{ContactKey, PairKind, Partner, ShapeTraits};
+pub use load::{LawReport, Load};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
 pub use store::{Candidate, ContactRef, ContactStore};
 pub(crate) use store::{EntryIds, EntryState};

@@ -13,8 +13,9 @@
 //! response).
 
 use super::key::{ContactKey, PairKind, Partner};
+use super::load::{LawReport, Load};
 use super::regions::{Assigned, MAX_REGIONS};
-use crate::contact_law::{History, OverlapVolume, Response};
+use crate::contact_law::{History, OverlapVolume};
 use crate::math::permute_in_place;
 use crate::narrow_phase::{ContactPoint, Geometry};
 
@@ -33,7 +34,8 @@ pub struct ContactRef<'a> {
     pub key: ContactKey,
     pub geometry: Geometry,
     pub history: &'a History,
-    pub response: &'a Response,
+    pub load: &'a Load,
+    pub report: &'a LawReport,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -75,8 +77,10 @@ pub struct ContactStore {
     /// Per entry, sorted by key: key, whether it touches this step, its geometry (valid while
     /// touching; kept to match regions next step) and its history.
     entries: Persistent,
-    /// Per entry: what the contact law gave this step (zero when not touching).
-    pub(crate) response: Vec<Response>,
+    /// Per entry: what the contact law gave this step (zero when not touching), the load on the
+    /// bodies apart from the rest.
+    load: Vec<Load>,
+    report: Vec<LawReport>,
     /// Per entry, only in a world with polyhedra (else empty): the overlap volume of polyhedral
     /// contacts under the volume law.
     volume: Vec<Option<OverlapVolume>>,
@@ -155,9 +159,11 @@ impl ContactStore {
                 lost += old.history[k].stored_energy();
             }
         }
-        self.response.clear();
-        self.response
-            .resize(self.entries.key.len(), Response::default());
+        let entries = self.entries.key.len();
+        self.load.clear();
+        self.load.resize(entries, Load::default());
+        self.report.clear();
+        self.report.resize(entries, LawReport::default());
         // A continuing regional contact's volume is found again before it is used; single
         // contacts write theirs every step.
         self.volume.clear();
@@ -217,7 +223,7 @@ impl ContactStore {
             };
             if a == u32::MAX || partner == Partner::Body(u32::MAX) {
                 if e.touching[k] {
-                    lost += self.response[k].elastic_energy;
+                    lost += self.report[k].elastic_energy;
                 }
                 continue;
             }
@@ -226,7 +232,8 @@ impl ContactStore {
             e.touching[kept] = e.touching[k];
             e.geometry[kept] = e.geometry[k];
             e.history[kept] = e.history[k];
-            self.response[kept] = self.response[k];
+            self.load[kept] = self.load[k];
+            self.report[kept] = self.report[k];
             if !self.volume.is_empty() {
                 self.volume[kept] = self.volume[k];
             }
@@ -237,7 +244,8 @@ impl ContactStore {
         e.touching.truncate(kept);
         e.geometry.truncate(kept);
         e.history.truncate(kept);
-        self.response.truncate(kept);
+        self.load.truncate(kept);
+        self.report.truncate(kept);
         if !self.volume.is_empty() {
             self.volume.truncate(kept);
         }
@@ -267,9 +275,7 @@ impl ContactStore {
                     let h = &mut e.history[k];
                     h.tangential_spring = -h.tangential_spring;
                     h.rolling_torque = -h.rolling_torque;
-                    let r = &mut self.response[k];
-                    r.force = -r.force;
-                    r.torque = -r.torque;
+                    self.load[k] = self.load[k].seen_from_partner();
                     if let Some(Some(v)) = self.volume.get_mut(k) {
                         v.couple = -v.couple;
                     }
@@ -303,7 +309,8 @@ impl ContactStore {
         permute_in_place(&mut e.touching, &from, done);
         permute_in_place(&mut e.geometry, &from, done);
         permute_in_place(&mut e.history, &from, done);
-        permute_in_place(&mut self.response, &from, done);
+        permute_in_place(&mut self.load, &from, done);
+        permute_in_place(&mut self.report, &from, done);
         if !self.volume.is_empty() {
             permute_in_place(&mut self.volume, &from, done);
         }
@@ -331,8 +338,12 @@ impl ContactStore {
         &self.entries.geometry
     }
 
-    pub fn responses(&self) -> &[Response] {
-        &self.response
+    pub fn loads(&self) -> &[Load] {
+        &self.load
+    }
+
+    pub fn reports(&self) -> &[LawReport] {
+        &self.report
     }
 
     /// First entries of the pairs with [`MAX_REGIONS`] entries.
@@ -369,7 +380,8 @@ impl ContactStore {
                 geometry: &mut e.geometry,
                 volume: &mut self.volume,
                 history: &mut e.history,
-                response: &mut self.response,
+                load: &mut self.load,
+                report: &mut self.report,
             },
         )
     }
@@ -416,7 +428,8 @@ impl ContactStore {
                 key: e.key[k],
                 geometry: e.geometry[k].with_volume(self.volume.get(k).copied().flatten()),
                 history: &e.history[k],
-                response: &self.response[k],
+                load: &self.load[k],
+                report: &self.report[k],
             })
     }
 
@@ -461,7 +474,8 @@ pub(crate) struct EntryState<'a> {
     /// Empty in a world without polyhedra.
     pub volume: &'a mut [Option<OverlapVolume>],
     pub history: &'a mut [History],
-    pub response: &'a mut [Response],
+    pub load: &'a mut [Load],
+    pub report: &'a mut [LawReport],
 }
 
 #[cfg(test)]
@@ -558,7 +572,7 @@ mod tests {
         ];
         store.set_candidates(&list, 3, true);
         let e = touch(&mut store, 0, Partner::Body(1));
-        store.response[e].elastic_energy = 2.0;
+        store.report[e].elastic_energy = 2.0;
         let lost = store.renumber(&[0, u32::MAX, 1]);
         assert_eq!(lost, 2.0);
         let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();

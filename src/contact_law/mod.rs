@@ -43,6 +43,12 @@ pub struct PairLaw {
     pub damping: f64,
     /// The same for the volume law of polyhedra, which is linear in the depth of a flat contact.
     pub damping_volume: f64,
+    /// √(k_t/S_n) of a point contact: √(4 G*/E*) under Hertz–Mindlin (k_t = 8 G* a over
+    /// S_n = 2 E* a), √(tangential_stiffness_ratio) under the linear law. The tangential dashpot
+    /// c √(m* k_t) is the normal one times this, with no square root per contact.
+    pub tangential_damping_ratio: f64,
+    /// The same under the volume law of polyhedra: √(tangential_stiffness_ratio).
+    pub tangential_damping_ratio_volume: f64,
 }
 
 /// Relative motion of the two bodies at one contact, in the world frame.
@@ -163,14 +169,15 @@ pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: 
     debug_assert!(k.overlap_volume.is_none() && law.rolling_friction <= 0.0);
     let (elastic, stiffness, elastic_energy, contact_radius) =
         normal::elastic(law, k.overlap, k.effective_radius);
-    let damping = law.damping * (k.effective_mass * stiffness).sqrt() * k.overlap_rate;
+    let damping_coefficient = law.damping * (k.effective_mass * stiffness).sqrt();
     let n = normal::NormalForce {
         elastic,
-        total: (elastic + damping).max(0.0),
+        total: (elastic + damping_coefficient * k.overlap_rate).max(0.0),
         stiffness,
         elastic_energy,
         couple: DVec3::ZERO,
         contact_radius,
+        damping_coefficient,
     };
     let t = tangential::tangential_force(law, k, &n, history, dt);
     Response {

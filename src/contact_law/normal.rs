@@ -19,6 +19,8 @@ pub struct NormalForce {
     /// Hertz's contact radius a = √(R* δ) [m] (0 for the other laws): Mindlin's tangential
     /// stiffness is 8 G* a.
     pub contact_radius: f64,
+    /// The dashpot's coefficient γ_n = c √(m* S_n) [N s/m]; the tangential one is γ_n √(k_t/S_n).
+    pub damping_coefficient: f64,
 }
 
 impl NormalForce {
@@ -112,13 +114,14 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
                 DVec3::ZERO,
             ),
         };
-    let damping = c * (k.effective_mass * stiffness).sqrt() * k.overlap_rate;
-    let total = (elastic + damping).max(0.0);
+    let damping_coefficient = c * (k.effective_mass * stiffness).sqrt();
+    let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);
     NormalForce {
         elastic,
         total,
         stiffness,
         elastic_energy,
+        damping_coefficient,
         // The pressure's moment, scaled with the force when damping or the no-tension cut-off
         // change it (the pressure is then taken as scaled uniformly). The vertex law's dashpot
         // is one, at the contact point: its couple is that of the springs, only ever cut down.

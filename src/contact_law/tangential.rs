@@ -52,12 +52,13 @@ pub fn tangential_force(
     // The dashpot constant of the normal law in use: the volume law's for polyhedra (whose k_t is
     // linear in the normal stiffness, as the twisting dashpot assumes), Hertz's or the linear
     // spring's otherwise.
-    let c = if k.overlap_volume.is_some() {
-        law.damping_volume
+    // c √(m* k_t) = γ_n √(k_t/S_n), with the ratio fixed per law: no square root here.
+    let ratio = if k.overlap_volume.is_some() {
+        law.tangential_damping_ratio_volume
     } else {
-        law.damping
+        law.tangential_damping_ratio
     };
-    let gamma = c * (k.effective_mass * kt).sqrt();
+    let gamma = normal.damping_coefficient * ratio;
     let damping = -gamma * k.tangential_velocity_end;
     let mut xi = old_xi + k.tangential_velocity * dt;
     let mut force = -kt * xi + damping;

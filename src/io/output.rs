@@ -315,8 +315,8 @@ fn force_network(world: &World) -> ForceNetwork {
         network
             .lines
             .push((first..first + points.len() as u32).collect());
-        network.normal_force.push(c.response.normal_force);
-        network.force.push(c.response.force);
+        network.normal_force.push(c.report.normal_force);
+        network.force.push(c.load.force);
         network.wall_contact.push(wall);
     };
     for c in world.contacts().iter() {

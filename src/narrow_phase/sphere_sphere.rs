@@ -12,8 +12,9 @@ pub fn sphere_sphere(xi: DVec3, ri: f64, xj: DVec3, rj: f64) -> Option<Geometry>
     let distance = distance_squared.sqrt();
     // Coincident centres have no defined normal; any direction is as good, but it must be
     // deterministic.
+    // One division, not three (the fused sphere path in step::spheres does the same).
     let normal = if distance > 0.0 {
-        d / distance
+        d * (1.0 / distance)
     } else {
         DVec3::Z
     };

@@ -4,13 +4,15 @@
 //! adding its own contacts in store order, so the sums are bit-identical for any thread count).
 
 use crate::body::Bodies;
-use crate::contact::{ContactKey, ContactStore, EntryIds, EntryState, PairKind, Partner};
+use crate::contact::{
+    ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, PairKind, Partner,
+};
 use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response};
 use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
-use crate::step::spheres::EntryOut;
+use crate::step::spheres::{self, EntryOut};
 use crate::step::Scene;
 use crate::wall::WallState;
 use rayon::prelude::*;
@@ -25,6 +27,20 @@ pub struct LawInputs<'a> {
     pub laws: &'a PairTable,
     /// Each body's motion packed for the contact loops ([`pack_motion`]).
     pub motion: &'a [BodyMotion],
+}
+
+impl EntryState<'_> {
+    /// What the step writes of entry `k`.
+    #[inline(always)]
+    fn entry(&mut self, k: usize) -> EntryOut<'_> {
+        EntryOut {
+            touching: &mut self.touching[k],
+            geometry: &mut self.geometry[k],
+            history: &mut self.history[k],
+            load: &mut self.load[k],
+            report: &mut self.report[k],
+        }
+    }
 }
 
 impl LawInputs<'_> {
@@ -61,16 +77,16 @@ impl LawInputs<'_> {
                 // R* from the volume-equivalent radii (the sphere's radius on a polyhedron), as
                 // the laws and the time-step estimate define it; the bounding radius of a
                 // polyhedron would soften every contact (by 1.4 for a cube).
-                let radius = if kind == PairKind::Spheres {
+                let (radius, mass) = if kind == PairKind::Spheres {
                     let (ra, rb) = (self.motion[a].radius, self.motion[j].radius);
-                    ra * rb / (ra + rb)
+                    spheres::effective_radius_and_mass((ra, rb), (b.mass[a], b.mass[j]))
                 } else {
-                    narrow_phase::effective_radius(
+                    let radius = narrow_phase::effective_radius(
                         &shapes[b.shape[a] as usize],
                         &shapes[b.shape[j] as usize],
-                    )
+                    );
+                    (radius, b.mass[a] * b.mass[j] / (b.mass[a] + b.mass[j]))
                 };
-                let mass = b.mass[a] * b.mass[j] / (b.mass[a] + b.mass[j]);
                 let w = self.motion[j].angular_velocity;
                 (vb, vb_end, w, b.material[j], radius, mass)
             }
@@ -116,28 +132,29 @@ impl LawInputs<'_> {
 
 /// Evaluates the contact law of every touching contact of a run of entries over the step `dt`
 /// (sphere pairs find their contact here too, see [`spheres`](super::spheres)). A contact that
-/// ended forgets its history; the energy its springs held is its response's `dissipated`.
+/// ended forgets its history; the energy its springs held is its report's `dissipated`.
 pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) {
     for k in 0..ids.key.len() {
         let key = ids.key[k];
-        let history = &mut state.history[k];
         if ids.kind[k] == PairKind::Spheres {
-            let out = EntryOut {
-                touching: &mut state.touching[k],
-                geometry: &mut state.geometry[k],
-                history,
-                response: &mut state.response[k],
-            };
-            super::spheres::sphere_pair(&inputs, key, out, dt);
+            spheres::sphere_pair(&inputs, key, state.entry(k), dt);
             continue;
         }
-        state.response[k] = if state.touching[k] {
+        let history = &mut state.history[k];
+        let r = if state.touching[k] {
             let volume = state.volume.get(k).copied().flatten();
             let g = &state.geometry[k];
             inputs.respond(key, ids.kind[k], g, volume, history, dt)
         } else {
             ended(history)
         };
+        let centre_b = key
+            .partner
+            .body()
+            .map(|j| inputs.motion[j as usize].position);
+        let centre_a = inputs.motion[key.a as usize].position;
+        state.load[k] = Load::new(&r, state.geometry[k].point, centre_a, centre_b);
+        state.report[k] = LawReport::of(&r);
     }
 }
 
@@ -166,11 +183,8 @@ pub fn accumulate(
     kick: Option<Kick>,
     partial: &mut Vec<f64>,
 ) -> f64 {
-    let touching = store.touching();
-    let geometry = store.geometry();
-    let response = store.responses();
+    let load = store.loads();
     let Bodies {
-        position,
         orientation,
         velocity,
         angular_momentum,
@@ -181,7 +195,7 @@ pub fn accumulate(
         torque,
         ..
     } = bodies;
-    let (position, orientation) = (&*position, &*orientation);
+    let orientation = &*orientation;
     let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
     force
         .par_iter_mut()
@@ -192,22 +206,19 @@ pub fn accumulate(
         .enumerate()
         .with_min_len(256)
         .for_each(|(i, ((((force, torque), v), l), w))| {
-            let x = position[i];
+            // Entries that do not touch hold a zero load, so every entry is added without a test
+            // (whether a candidate touches is a coin toss, and a mispredicted branch per entry
+            // cost more than the addition): a sum that starts at +0 stays bit for bit the same
+            // when ±0 is added.
             let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
             for e in store.own(i) {
-                if touching[e] {
-                    let r = &response[e];
-                    f += r.force;
-                    t += (geometry[e].point - x).cross(r.force) + r.torque;
-                }
+                f += load[e].force;
+                t += load[e].torque_a;
             }
             for &e in store.incoming(i) {
                 let e = e as usize;
-                if touching[e] {
-                    let r = &response[e];
-                    f -= r.force;
-                    t -= (geometry[e].point - x).cross(r.force) + r.torque;
-                }
+                f -= load[e].force;
+                t += load[e].torque_b;
             }
             *force = f;
             *torque = t;
@@ -224,7 +235,8 @@ pub fn accumulate(
             }
         });
     // Summed in fixed chunks, then the chunks in order: the same figure for any thread count.
-    response
+    store
+        .reports()
         .par_chunks(4096)
         .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
         .collect_into_vec(partial);

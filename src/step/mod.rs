@@ -52,16 +52,18 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
         .zip(state.geometry.par_chunks_mut(CHUNK))
         .zip(volume)
         .zip(state.history.par_chunks_mut(CHUNK))
-        .zip(state.response.par_chunks_mut(CHUNK))
+        .zip(state.load.par_chunks_mut(CHUNK))
+        .zip(state.report.par_chunks_mut(CHUNK))
         .for_each(
-            |((((((key, kind), touching), geometry), volume), history), response)| {
+            |(((((((key, kind), touching), geometry), volume), history), load), report)| {
                 let ids = EntryIds { key, kind };
                 let mut state = EntryState {
                     touching,
                     geometry,
                     volume,
                     history,
-                    response,
+                    load,
+                    report,
                 };
                 detect::detect_single(scene, &ids, &mut state);
                 forces::evaluate(laws, &ids, &mut state, dt);

@@ -7,8 +7,8 @@
 //! same bits; a test below holds them together.
 
 use super::forces::{ended, kinematics, LawInputs};
-use crate::contact::ContactKey;
-use crate::contact_law::{self, History, Response};
+use crate::contact::{ContactKey, LawReport, Load};
+use crate::contact_law::{self, History};
 use crate::math::DVec3;
 use crate::narrow_phase::ContactPoint;
 
@@ -17,27 +17,68 @@ pub(crate) struct EntryOut<'a> {
     pub touching: &'a mut bool,
     pub geometry: &'a mut ContactPoint,
     pub history: &'a mut History,
-    pub response: &'a mut Response,
+    pub load: &'a mut Load,
+    pub report: &'a mut LawReport,
 }
 
 /// Contact and response of the sphere pair `key` (its partner a body) over the step `dt`.
-#[inline]
+#[inline(always)]
 pub(crate) fn sphere_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
-    let a = key.a as usize;
-    let j = key.partner.body().unwrap_or(0) as usize;
+    if overlaps(inputs, key) {
+        touching_pair(inputs, key, out, dt);
+    } else {
+        apart(out);
+    }
+}
+
+/// R* = r_a r_b/(r_a + r_b) and m* = m_a m_b/(m_a + m_b) of a sphere pair, with one division
+/// for both (the divider is the contact loop's narrowest unit).
+#[inline(always)]
+pub(crate) fn effective_radius_and_mass(radius: (f64, f64), mass: (f64, f64)) -> (f64, f64) {
+    let (radius_sum, mass_sum) = (radius.0 + radius.1, mass.0 + mass.1);
+    let inverse = 1.0 / (radius_sum * mass_sum);
+    (
+        radius.0 * radius.1 * mass_sum * inverse,
+        mass.0 * mass.1 * radius_sum * inverse,
+    )
+}
+
+/// The two bodies of `key`.
+#[inline(always)]
+fn bodies(key: ContactKey) -> (usize, usize) {
+    (key.a as usize, key.partner.body().unwrap_or(0) as usize)
+}
+
+/// Whether the sphere pair `key` overlaps (the narrow phase's test).
+#[inline(always)]
+fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
+    let (a, j) = bodies(key);
+    let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
+    let reach = ma.radius + mb.radius;
+    (ma.position - mb.position).length_squared() < reach * reach
+}
+
+/// A sphere pair that does not touch: no load, and a history it had is dropped.
+#[inline(always)]
+fn apart(out: EntryOut) {
+    *out.touching = false;
+    let r = ended(out.history);
+    *out.load = Load::default();
+    *out.report = LawReport::of(&r);
+}
+
+/// Contact and response of the sphere pair `key`, which [`overlaps`], over the step `dt`.
+#[inline(always)]
+fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
+    let (a, j) = bodies(key);
     let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
     let d = ma.position - mb.position;
     let distance_squared = d.length_squared();
     let reach = ma.radius + mb.radius;
-    if distance_squared >= reach * reach {
-        *out.touching = false;
-        *out.response = ended(out.history);
-        return;
-    }
     // As narrow_phase::sphere_sphere: the normal points from the partner to `a`.
     let distance = distance_squared.sqrt();
     let normal = if distance > 0.0 {
-        d / distance
+        d * (1.0 / distance)
     } else {
         DVec3::Z
     };
@@ -55,9 +96,8 @@ pub(crate) fn sphere_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt
     let vb = mb.velocity + mb.angular_velocity.cross(arm_b);
     let vb_end = mb.velocity_end + mb.angular_velocity_end.cross(arm_b);
     let bodies = inputs.scene.bodies;
-    let effective_radius = ma.radius * mb.radius / (ma.radius + mb.radius);
-    let (mass_a, mass_b) = (bodies.mass[a], bodies.mass[j]);
-    let effective_mass = mass_a * mass_b / (mass_a + mass_b);
+    let (effective_radius, effective_mass) =
+        effective_radius_and_mass((ma.radius, mb.radius), (bodies.mass[a], bodies.mass[j]));
     let k = kinematics(
         &g,
         None,
@@ -68,11 +108,13 @@ pub(crate) fn sphere_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt
         effective_mass,
     );
     let law = inputs.laws.get(bodies.material[a], bodies.material[j]);
-    *out.response = if law.rolling_friction > 0.0 {
+    let r = if law.rolling_friction > 0.0 {
         contact_law::evaluate(law, &k, out.history, dt)
     } else {
         contact_law::evaluate_point(law, &k, out.history, dt)
     };
+    *out.load = Load::new(&r, g.point, ma.position, Some(mb.position));
+    *out.report = LawReport::of(&r);
     *out.touching = true;
     *out.geometry = g;
 }
@@ -83,6 +125,8 @@ mod tests {
     use crate::body::{Bodies, BodyInit};
     use crate::contact::{PairKind, Partner};
     use crate::contact_law::NormalLaw;
+    #[allow(unused_imports)]
+    use crate::contact_law::Response;
     use crate::integrate::BodyMotion;
     use crate::material::{Material, PairTable};
     use crate::math::DQuat;
@@ -198,12 +242,14 @@ mod tests {
             };
 
             let (mut touching, mut geometry) = (false, ContactPoint::default());
-            let (mut history, mut response) = (start, Response::default());
+            let mut history = start;
+            let (mut load, mut report) = (Load::default(), LawReport::default());
             let out = EntryOut {
                 touching: &mut touching,
                 geometry: &mut geometry,
                 history: &mut history,
-                response: &mut response,
+                load: &mut load,
+                report: &mut report,
             };
             sphere_pair(&inputs, key, out, dt);
 
@@ -220,7 +266,12 @@ mod tests {
                 prop_assert_eq!(geometry, g.contact_point());
             }
             // Debug prints the shortest string that reads back to the same bits (and tells -0 from 0).
-            prop_assert_eq!(format!("{response:?}"), format!("{general:?}"));
+            let general_load = match found {
+                Some(g) => Load::new(&general, g.point, positions[0], Some(positions[1])),
+                None => Load::default(),
+            };
+            prop_assert_eq!(format!("{load:?}"), format!("{general_load:?}"));
+            prop_assert_eq!(format!("{report:?}"), format!("{:?}", LawReport::of(&general)));
             prop_assert_eq!(format!("{history:?}"), format!("{general_history:?}"));
         }
     }

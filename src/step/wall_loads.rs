@@ -35,15 +35,15 @@ impl WallLoads {
         let count = planes.len() + walls.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
-        let (touching, geometry, response) =
-            (store.touching(), store.geometry(), store.responses());
+        let (touching, geometry, load) = (store.touching(), store.geometry(), store.loads());
         let mut power = 0.0;
         for &e in store.wall_entries() {
             let e = e as usize;
             if !touching[e] {
                 continue;
             }
-            let (f, torque) = (response[e].force, response[e].torque);
+            // For a wall partner the load's second moment is the law's couple on the body.
+            let (f, torque) = (load[e].force, load[e].torque_b);
             let (p, n) = (geometry[e].point, geometry[e].normal);
             let (w, centre) = match store.keys()[e].partner {
                 Partner::Plane(k) => (k as usize, planes[k as usize].point),
