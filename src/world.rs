@@ -218,9 +218,10 @@ impl World {
             .update(&self.bodies, &self.shapes, walls.0, walls.1)
         {
             let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
-            self.dissipated += self
-                .contacts
-                .set_candidates(list, self.bodies.len(), volumes);
+            let spins = volumes || self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
+            self.dissipated +=
+                self.contacts
+                    .set_candidates(list, self.bodies.len(), volumes, spins);
         }
         self.update_wall_states(dt);
         let scene = step::Scene {

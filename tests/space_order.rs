@@ -112,7 +112,7 @@ fn snapshot(w: &World) -> Snapshot {
             let a = b.id[c.key.a as usize];
             let h = [
                 c.history.tangential_spring,
-                c.history.rolling_torque,
+                c.spin.map_or(DVec3::ZERO, |s| s.rolling_torque),
                 c.geometry.normal,
             ];
             match c.key.partner {

@@ -15,7 +15,7 @@
 use super::key::{ContactKey, PairKind, Partner};
 use super::load::{LawReport, Load};
 use super::regions::{Assigned, MAX_REGIONS};
-use crate::contact_law::{History, OverlapVolume};
+use crate::contact_law::{History, OverlapVolume, SpinHistory};
 use crate::math::permute_in_place;
 use crate::narrow_phase::{ContactPoint, Geometry};
 
@@ -34,6 +34,8 @@ pub struct ContactRef<'a> {
     pub key: ContactKey,
     pub geometry: Geometry,
     pub history: &'a History,
+    /// The rolling and twisting springs, in worlds that keep them (see [`SpinHistory`]).
+    pub spin: Option<&'a SpinHistory>,
     pub load: &'a Load,
     pub report: &'a LawReport,
 }
@@ -45,6 +47,8 @@ struct Persistent {
     touching: Vec<bool>,
     geometry: Vec<ContactPoint>,
     history: Vec<History>,
+    /// Empty in a world without rolling friction and polyhedra.
+    spin: Vec<SpinHistory>,
 }
 
 impl Persistent {
@@ -54,6 +58,7 @@ impl Persistent {
         self.touching.clear();
         self.geometry.clear();
         self.history.clear();
+        self.spin.clear();
     }
 
     fn push(
@@ -62,13 +67,21 @@ impl Persistent {
         kind: PairKind,
         touching: bool,
         geometry: ContactPoint,
-        history: History,
+        history: (History, Option<SpinHistory>),
     ) {
         self.key.push(key);
         self.kind.push(kind);
         self.touching.push(touching);
         self.geometry.push(geometry);
-        self.history.push(history);
+        self.history.push(history.0);
+        if let Some(spin) = history.1 {
+            self.spin.push(spin);
+        }
+    }
+
+    /// Energy held in the springs of entry `k`.
+    fn stored_energy(&self, k: usize) -> f64 {
+        self.history[k].stored_energy() + self.spin.get(k).map_or(0.0, SpinHistory::stored_energy)
     }
 }
 
@@ -104,12 +117,14 @@ impl ContactStore {
     /// that are no longer candidates still held (none in a consistent neighbour search; booked as
     /// dissipated by the caller).
     ///
-    /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep.
+    /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep; `spins`: some
+    /// contacts may have rolling or twisting springs (rolling friction or polyhedra).
     pub fn set_candidates(
         &mut self,
         candidates: &[Candidate],
         bodies: usize,
         volumes: bool,
+        spins: bool,
     ) -> f64 {
         debug_assert!(candidates
             .windows(2)
@@ -134,29 +149,28 @@ impl ContactStore {
                 };
                 while o < old.key.len() && old.key[o] < key {
                     if old.touching[o] {
-                        lost += old.history[o].stored_energy();
+                        lost += old.stored_energy(o);
                     }
                     o += 1;
                 }
+                let spin = |k: Option<usize>| {
+                    spins.then(|| k.and_then(|k| old.spin.get(k).copied()).unwrap_or_default())
+                };
                 if o < old.key.len() && old.key[o] == key {
                     let (touching, geometry) = (old.touching[o], old.geometry[o]);
-                    self.entries
-                        .push(key, c.kind, touching, geometry, old.history[o]);
+                    let history = (old.history[o], spin(Some(o)));
+                    self.entries.push(key, c.kind, touching, geometry, history);
                     o += 1;
                 } else {
-                    self.entries.push(
-                        key,
-                        c.kind,
-                        false,
-                        ContactPoint::default(),
-                        History::default(),
-                    );
+                    let history = (History::default(), spin(None));
+                    let nothing = ContactPoint::default();
+                    self.entries.push(key, c.kind, false, nothing, history);
                 }
             }
         }
         for k in o..old.key.len() {
             if old.touching[k] {
-                lost += old.history[k].stored_energy();
+                lost += old.stored_energy(k);
             }
         }
         let entries = self.entries.key.len();
@@ -232,6 +246,9 @@ impl ContactStore {
             e.touching[kept] = e.touching[k];
             e.geometry[kept] = e.geometry[k];
             e.history[kept] = e.history[k];
+            if !e.spin.is_empty() {
+                e.spin[kept] = e.spin[k];
+            }
             self.load[kept] = self.load[k];
             self.report[kept] = self.report[k];
             if !self.volume.is_empty() {
@@ -244,6 +261,7 @@ impl ContactStore {
         e.touching.truncate(kept);
         e.geometry.truncate(kept);
         e.history.truncate(kept);
+        e.spin.truncate(kept.min(e.spin.len()));
         self.load.truncate(kept);
         self.report.truncate(kept);
         if !self.volume.is_empty() {
@@ -274,7 +292,9 @@ impl ContactStore {
                     g.normal = -g.normal;
                     let h = &mut e.history[k];
                     h.tangential_spring = -h.tangential_spring;
-                    h.rolling_torque = -h.rolling_torque;
+                    if let Some(spin) = e.spin.get_mut(k) {
+                        spin.rolling_torque = -spin.rolling_torque;
+                    }
                     self.load[k] = self.load[k].seen_from_partner();
                     if let Some(Some(v)) = self.volume.get_mut(k) {
                         v.couple = -v.couple;
@@ -309,6 +329,9 @@ impl ContactStore {
         permute_in_place(&mut e.touching, &from, done);
         permute_in_place(&mut e.geometry, &from, done);
         permute_in_place(&mut e.history, &from, done);
+        if !e.spin.is_empty() {
+            permute_in_place(&mut e.spin, &from, done);
+        }
         permute_in_place(&mut self.load, &from, done);
         permute_in_place(&mut self.report, &from, done);
         if !self.volume.is_empty() {
@@ -380,6 +403,7 @@ impl ContactStore {
                 geometry: &mut e.geometry,
                 volume: &mut self.volume,
                 history: &mut e.history,
+                spin: &mut e.spin,
                 load: &mut self.load,
                 report: &mut self.report,
             },
@@ -406,8 +430,11 @@ impl ContactStore {
         let x = &mut self.entries;
         let mut lost = 0.0;
         if x.touching[e] && (fresh || geometry.is_none()) {
-            lost = x.history[e].stored_energy();
+            lost = x.stored_energy(e);
             x.history[e] = History::default();
+            if let Some(spin) = x.spin.get_mut(e) {
+                *spin = SpinHistory::default();
+            }
         }
         x.touching[e] = geometry.is_some();
         if let Some(g) = geometry {
@@ -428,6 +455,7 @@ impl ContactStore {
                 key: e.key[k],
                 geometry: e.geometry[k].with_volume(self.volume.get(k).copied().flatten()),
                 history: &e.history[k],
+                spin: e.spin.get(k),
                 load: &self.load[k],
                 report: &self.report[k],
             })
@@ -474,6 +502,8 @@ pub(crate) struct EntryState<'a> {
     /// Empty in a world without polyhedra.
     pub volume: &'a mut [Option<OverlapVolume>],
     pub history: &'a mut [History],
+    /// Empty in a world without rolling friction and polyhedra.
+    pub spin: &'a mut [SpinHistory],
     pub load: &'a mut [Load],
     pub report: &'a mut [LawReport],
 }
@@ -518,7 +548,7 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        store.set_candidates(&first, 3, false);
+        store.set_candidates(&first, 3, false, false);
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
         store.entries.history[e].tangential_stiffness = 4.0;
@@ -528,14 +558,40 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        assert_eq!(store.set_candidates(&second, 3, false), 0.0);
+        assert_eq!(store.set_candidates(&second, 3, false, false), 0.0);
         let history = |s: &ContactStore, k: usize| s.entries.history[k];
         assert_eq!(history(&store, 0), History::default());
         assert_eq!(history(&store, 1).tangential_spring, DVec3::X);
         assert!(store.touching()[1]);
         // A touching contact that drops out gives back the energy its springs held.
-        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3, false);
+        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3, false, false);
         assert_eq!(lost, 0.5 * 4.0);
+    }
+
+    /// The rolling and twisting springs, kept only where asked for, follow their contact like the
+    /// tangential one and count in the energy a dropped contact gives back.
+    #[test]
+    fn spin_history_survives_a_new_neighbour_list_and_only_where_kept() {
+        let mut store = ContactStore::default();
+        let pairs = [
+            candidate(0, Partner::Body(1)),
+            candidate(1, Partner::Body(2)),
+        ];
+        store.set_candidates(&pairs, 3, false, false);
+        assert!(store.iter().all(|c| c.spin.is_none()));
+        store.set_candidates(&pairs, 3, false, true);
+        let e = touch(&mut store, 1, Partner::Body(2));
+        store.entries.spin[e] = SpinHistory {
+            rolling_torque: DVec3::Y,
+            rolling_stiffness: 0.25,
+            ..SpinHistory::default()
+        };
+        let more = [pairs[0], candidate(0, Partner::Body(2)), pairs[1]];
+        assert_eq!(store.set_candidates(&more, 3, false, true), 0.0);
+        let c = store.iter().find(|c| c.key.a == 1).unwrap();
+        assert_eq!(c.spin.unwrap().rolling_torque, DVec3::Y);
+        let lost = store.set_candidates(&more[..2], 3, false, true);
+        assert_eq!(lost, 0.5 / 0.25);
     }
 
     #[test]
@@ -551,7 +607,7 @@ mod tests {
                 kind: PairKind::Regional,
             },
         ];
-        store.set_candidates(&list, 3, true);
+        store.set_candidates(&list, 3, true, true);
         assert_eq!(store.entries(), 3 + MAX_REGIONS);
         assert_eq!(store.own(0), 0..2);
         assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
@@ -570,7 +626,7 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, 3, true);
+        store.set_candidates(&list, 3, true, true);
         let e = touch(&mut store, 0, Partner::Body(1));
         store.report[e].elastic_energy = 2.0;
         let lost = store.renumber(&[0, u32::MAX, 1]);

@@ -109,28 +109,41 @@ pub struct OverlapVolume {
     pub potential: f64,
 }
 
-/// What a contact remembers between steps while it lasts.
+/// What every contact remembers between steps while it lasts: its tangential spring.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct History {
     /// Tangential spring elongation ξ [m].
     pub tangential_spring: DVec3,
-    /// Rolling-resistance torque on body i [N m].
-    pub rolling_torque: DVec3,
-    /// Stiffnesses of the previous step: with Hertz–Mindlin they change with the overlap, and the
+    /// Stiffness of the previous step: with Hertz–Mindlin it changes with the overlap, and the
     /// energy ledger must compare this step's spring energy with the one reported last step.
     pub tangential_stiffness: f64,
+}
+
+impl History {
+    /// Energy held in the tangential spring. When a contact ends this energy is lost with it: the
+    /// ledger counts it as dissipated. (The normal spring needs no such care: its energy goes
+    /// back into motion as the overlap closes.)
+    pub fn stored_energy(&self) -> f64 {
+        0.5 * self.tangential_stiffness * self.tangential_spring.length_squared()
+    }
+}
+
+/// What a contact remembers of the relative rotation of its bodies: the rolling-resistance and
+/// twisting springs. Only worlds with rolling friction or polyhedra keep it (a side array of the
+/// contact store), so that a sphere contact carries nothing it does not use.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpinHistory {
+    /// Rolling-resistance torque on body i [N m], and its stiffness of the previous step.
+    pub rolling_torque: DVec3,
     pub rolling_stiffness: f64,
     /// Twisting torque on body i about the normal, and its stiffness (area contacts only).
     pub twisting_torque: f64,
     pub twisting_stiffness: f64,
 }
 
-impl History {
-    /// Energy held in the history springs (tangential and rolling). When a contact ends this
-    /// energy is lost with it: the ledger counts it as dissipated. (The normal spring needs no
-    /// such care: its energy goes back into motion as the overlap closes.)
+impl SpinHistory {
+    /// Energy held in the rolling and twisting springs (see [`History::stored_energy`]).
     pub fn stored_energy(&self) -> f64 {
-        let tangential = 0.5 * self.tangential_stiffness * self.tangential_spring.length_squared();
         let rolling = if self.rolling_stiffness > 0.0 {
             0.5 * self.rolling_torque.length_squared() / self.rolling_stiffness
         } else {
@@ -141,7 +154,7 @@ impl History {
         } else {
             0.0
         };
-        tangential + rolling + twisting
+        rolling + twisting
     }
 }
 
@@ -191,12 +204,18 @@ pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: 
 }
 
 /// Evaluates the composed law for one contact over a step `dt`, updating its history.
-pub fn evaluate(law: &PairLaw, k: &Kinematics, history: &mut History, dt: f64) -> Response {
+pub fn evaluate(
+    law: &PairLaw,
+    k: &Kinematics,
+    history: &mut History,
+    spin: &mut SpinHistory,
+    dt: f64,
+) -> Response {
     let n = normal::normal_force(law, k);
     let t = tangential::tangential_force(law, k, &n, history, dt);
-    let r = rolling::rolling_torque(law, k, &n, history, dt);
+    let r = rolling::rolling_torque(law, k, &n, spin, dt);
     let kt = history.tangential_stiffness;
-    let w = twisting::twisting_torque(law, k, &n, kt, history, dt);
+    let w = twisting::twisting_torque(law, k, &n, kt, spin, dt);
     let rock = rocking::rocking_torque(law, k, &n, dt);
     Response {
         force: k.normal * n.total + t.force,

@@ -3,7 +3,7 @@
 
 use super::normal::NormalForce;
 use super::tangential::rotate_into_plane;
-use super::{History, Kinematics, PairLaw};
+use super::{Kinematics, PairLaw, SpinHistory};
 use crate::math::DVec3;
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -19,7 +19,7 @@ pub fn rolling_torque(
     law: &PairLaw,
     k: &Kinematics,
     normal: &NormalForce,
-    history: &mut History,
+    history: &mut SpinHistory,
     dt: f64,
 ) -> RollingTorque {
     // Polyhedra resist rolling by their shape; the model is for round bodies.

@@ -8,7 +8,7 @@
 //! the tangential force, after LAMMPS' "marshall" twisting model).
 
 use super::normal::NormalForce;
-use super::{History, Kinematics, PairLaw};
+use super::{Kinematics, PairLaw, SpinHistory};
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TwistingTorque {
@@ -23,7 +23,7 @@ pub fn twisting_torque(
     k: &Kinematics,
     normal: &NormalForce,
     tangential_stiffness: f64,
-    history: &mut History,
+    history: &mut SpinHistory,
     dt: f64,
 ) -> TwistingTorque {
     let Some(overlap) = k.overlap_volume else {

@@ -7,7 +7,7 @@ use crate::body::Bodies;
 use crate::contact::{
     ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, PairKind, Partner,
 };
-use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response};
+use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response, SpinHistory};
 use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
@@ -37,6 +37,7 @@ impl EntryState<'_> {
             touching: &mut self.touching[k],
             geometry: &mut self.geometry[k],
             history: &mut self.history[k],
+            spin: self.spin.get_mut(k),
             load: &mut self.load[k],
             report: &mut self.report[k],
         }
@@ -62,7 +63,7 @@ impl LawInputs<'_> {
         kind: PairKind,
         g: &ContactPoint,
         volume: Option<OverlapVolume>,
-        history: &mut History,
+        (history, spin): (&mut History, &mut SpinHistory),
         dt: f64,
     ) -> Response {
         let (b, shapes) = (self.scene.bodies, self.scene.shapes);
@@ -126,7 +127,7 @@ impl LawInputs<'_> {
             effective_mass,
         );
         let law = self.laws.get(b.material[a], material);
-        contact_law::evaluate(law, &k, history, dt)
+        contact_law::evaluate(law, &k, history, spin, dt)
     }
 }
 
@@ -141,12 +142,15 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
             continue;
         }
         let history = &mut state.history[k];
+        let spin = state.spin.get_mut(k);
         let r = if state.touching[k] {
             let volume = state.volume.get(k).copied().flatten();
             let g = &state.geometry[k];
-            inputs.respond(key, ids.kind[k], g, volume, history, dt)
+            let mut none = SpinHistory::default();
+            let spin = spin.unwrap_or(&mut none);
+            inputs.respond(key, ids.kind[k], g, volume, (history, spin), dt)
         } else {
-            ended(history)
+            ended(history, spin)
         };
         let centre_b = key
             .partner
@@ -161,12 +165,16 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
 /// The response of a contact that does not touch: none, and if it touched before, its history is
 /// dropped and the energy its springs held is booked as dissipated.
 #[inline]
-pub(crate) fn ended(history: &mut History) -> Response {
-    if *history == History::default() {
-        return Response::default();
+pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Response {
+    let mut lost = 0.0;
+    if *history != History::default() {
+        lost = history.stored_energy();
+        *history = History::default();
     }
-    let lost = history.stored_energy();
-    *history = History::default();
+    if let Some(spin) = spin.filter(|s| **s != SpinHistory::default()) {
+        lost += spin.stored_energy();
+        *spin = SpinHistory::default();
+    }
     Response {
         dissipated: lost,
         ..Response::default()

@@ -38,13 +38,11 @@ const CHUNK: usize = 256;
 /// [`detect_regions`], run before).
 pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactStore, dt: f64) {
     let (ids, state) = store.pass_mut();
-    // A world without polyhedra keeps no volumes: each chunk gets an empty slice.
-    let volume = if state.volume.is_empty() {
-        let chunks = ids.key.len().div_ceil(CHUNK);
-        Either::Right((0..chunks).into_par_iter().map(|_| <&mut [_]>::default()))
-    } else {
-        Either::Left(state.volume.par_chunks_mut(CHUNK))
-    };
+    // A world without polyhedra keeps no volumes, one without rolling friction and polyhedra no
+    // spin histories: each chunk then gets an empty slice.
+    let chunks = ids.key.len().div_ceil(CHUNK);
+    let volume = side_array_chunks(state.volume, chunks);
+    let spin = side_array_chunks(state.spin, chunks);
     ids.key
         .par_chunks(CHUNK)
         .zip(ids.kind.par_chunks(CHUNK))
@@ -52,16 +50,18 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
         .zip(state.geometry.par_chunks_mut(CHUNK))
         .zip(volume)
         .zip(state.history.par_chunks_mut(CHUNK))
+        .zip(spin)
         .zip(state.load.par_chunks_mut(CHUNK))
         .zip(state.report.par_chunks_mut(CHUNK))
         .for_each(
-            |(((((((key, kind), touching), geometry), volume), history), load), report)| {
+            |((((((((key, kind), touching), geometry), volume), history), spin), load), report)| {
                 let ids = EntryIds { key, kind };
                 let mut state = EntryState {
                     touching,
                     geometry,
                     volume,
                     history,
+                    spin,
                     load,
                     report,
                 };
@@ -69,4 +69,16 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
                 forces::evaluate(laws, &ids, &mut state, dt);
             },
         );
+}
+
+/// The chunks of a side array that a world may not keep: its chunks, or `chunks` empty slices.
+fn side_array_chunks<T: Send>(
+    values: &mut [T],
+    chunks: usize,
+) -> impl IndexedParallelIterator<Item = &mut [T]> {
+    if values.is_empty() {
+        Either::Right((0..chunks).into_par_iter().map(|_| <&mut [T]>::default()))
+    } else {
+        Either::Left(values.par_chunks_mut(CHUNK))
+    }
 }

@@ -8,7 +8,7 @@
 
 use super::forces::{ended, kinematics, LawInputs};
 use crate::contact::{ContactKey, LawReport, Load};
-use crate::contact_law::{self, History};
+use crate::contact_law::{self, History, SpinHistory};
 use crate::math::DVec3;
 use crate::narrow_phase::ContactPoint;
 
@@ -17,6 +17,8 @@ pub(crate) struct EntryOut<'a> {
     pub touching: &'a mut bool,
     pub geometry: &'a mut ContactPoint,
     pub history: &'a mut History,
+    /// In worlds with rolling friction (see `contact_law::SpinHistory`).
+    pub spin: Option<&'a mut SpinHistory>,
     pub load: &'a mut Load,
     pub report: &'a mut LawReport,
 }
@@ -62,7 +64,7 @@ fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
 #[inline(always)]
 fn apart(out: EntryOut) {
     *out.touching = false;
-    let r = ended(out.history);
+    let r = ended(out.history, out.spin);
     *out.load = Load::default();
     *out.report = LawReport::of(&r);
 }
@@ -109,7 +111,13 @@ fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
     );
     let law = inputs.laws.get(bodies.material[a], bodies.material[j]);
     let r = if law.rolling_friction > 0.0 {
-        contact_law::evaluate(law, &k, out.history, dt)
+        debug_assert!(
+            out.spin.is_some(),
+            "rolling friction without spin histories"
+        );
+        let mut none = SpinHistory::default();
+        let spin = out.spin.unwrap_or(&mut none);
+        contact_law::evaluate(law, &k, out.history, spin, dt)
     } else {
         contact_law::evaluate_point(law, &k, out.history, dt)
     };
@@ -238,28 +246,38 @@ mod tests {
             let start = History {
                 tangential_spring: spring,
                 tangential_stiffness: 1e3,
-                ..History::default()
+            };
+            let start_spin = SpinHistory {
+                rolling_torque: spring * 1e-2,
+                rolling_stiffness: 1e-3,
+                ..SpinHistory::default()
             };
 
             let (mut touching, mut geometry) = (false, ContactPoint::default());
-            let mut history = start;
+            let (mut history, mut spin) = (start, start_spin);
             let (mut load, mut report) = (Load::default(), LawReport::default());
             let out = EntryOut {
                 touching: &mut touching,
                 geometry: &mut geometry,
                 history: &mut history,
+                spin: Some(&mut spin),
                 load: &mut load,
                 report: &mut report,
             };
             sphere_pair(&inputs, key, out, dt);
 
             let found = narrow_phase::sphere_sphere(positions[0], ra, positions[1], rb);
-            let mut general_history = start;
+            let (mut general_history, mut general_spin) = (start, start_spin);
             let general = match found {
                 Some(g) => inputs.respond(
-                    key, PairKind::Spheres, &g.contact_point(), None, &mut general_history, dt,
+                    key,
+                    PairKind::Spheres,
+                    &g.contact_point(),
+                    None,
+                    (&mut general_history, &mut general_spin),
+                    dt,
                 ),
-                None => ended(&mut general_history),
+                None => ended(&mut general_history, Some(&mut general_spin)),
             };
             prop_assert_eq!(touching, found.is_some());
             if let Some(g) = found {
@@ -273,6 +291,7 @@ mod tests {
             prop_assert_eq!(format!("{load:?}"), format!("{general_load:?}"));
             prop_assert_eq!(format!("{report:?}"), format!("{:?}", LawReport::of(&general)));
             prop_assert_eq!(format!("{history:?}"), format!("{general_history:?}"));
+            prop_assert_eq!(format!("{spin:?}"), format!("{general_spin:?}"));
         }
     }
 }
