@@ -31,7 +31,7 @@ pub use sphere_mesh::{
     MeshScratch, TriangleRegion,
 };
 pub use sphere_plane::sphere_plane;
-pub use sphere_sphere::sphere_sphere;
+pub use sphere_sphere::{overlapping_spheres, sphere_sphere};
 pub use vertex_penetration::{vertex_penetration, PenetratingPoint, PenetrationSet, PointKind};
 
 use crate::contact_law::OverlapVolume;

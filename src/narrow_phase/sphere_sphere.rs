@@ -1,30 +1,41 @@
-use super::Geometry;
+use super::{ContactPoint, Geometry};
 use crate::math::DVec3;
 
 /// Two spheres overlap when their centres are closer than the sum of their radii.
 pub fn sphere_sphere(xi: DVec3, ri: f64, xj: DVec3, rj: f64) -> Option<Geometry> {
-    let d = xi - xj;
-    let distance_squared = d.length_squared();
     let reach = ri + rj;
-    if distance_squared >= reach * reach {
-        return None;
-    }
-    let distance = distance_squared.sqrt();
+    // Written so that a NaN position gives a (NaN) contact: a blown-up body must show, not vanish.
+    let apart = (xi - xj).length_squared() >= reach * reach;
+    (!apart).then(|| {
+        let c = overlapping_spheres(xi, ri, xj, rj);
+        Geometry {
+            normal: c.normal,
+            point: c.point,
+            overlap: c.overlap,
+            volume: None,
+        }
+    })
+}
+
+/// The contact of two spheres known to overlap; the normal points from `j` to `i`. Shared with
+/// the fused sphere path (`step::spheres`), which tests the overlap itself.
+#[inline(always)]
+pub fn overlapping_spheres(xi: DVec3, ri: f64, xj: DVec3, rj: f64) -> ContactPoint {
+    let d = xi - xj;
+    let distance = d.length_squared().sqrt();
     // Coincident centres have no defined normal; any direction is as good, but it must be
-    // deterministic.
-    // One division, not three (the fused sphere path in step::spheres does the same).
+    // deterministic. One division, not three.
     let normal = if distance > 0.0 {
         d * (1.0 / distance)
     } else {
         DVec3::Z
     };
-    let overlap = reach - distance;
-    Some(Geometry {
+    let overlap = ri + rj - distance;
+    ContactPoint {
         normal,
         point: xj + normal * (rj - 0.5 * overlap),
         overlap,
-        volume: None,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -9,8 +9,7 @@
 use super::forces::{ended, kinematics, LawInputs};
 use crate::contact::{ContactKey, LawReport, Load};
 use crate::contact_law::{self, History, SpinHistory};
-use crate::math::DVec3;
-use crate::narrow_phase::ContactPoint;
+use crate::narrow_phase::{self, ContactPoint};
 
 /// What the step writes of one entry.
 pub(crate) struct EntryOut<'a> {
@@ -57,7 +56,9 @@ fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
     let (a, j) = bodies(key);
     let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
     let reach = ma.radius + mb.radius;
-    (ma.position - mb.position).length_squared() < reach * reach
+    // As narrow_phase::sphere_sphere: a NaN position gives a (NaN) contact, so a blow-up shows.
+    let apart = (ma.position - mb.position).length_squared() >= reach * reach;
+    !apart
 }
 
 /// A sphere pair that does not touch: no load, and a history it had is dropped.
@@ -74,22 +75,7 @@ fn apart(out: EntryOut) {
 fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
     let (a, j) = bodies(key);
     let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
-    let d = ma.position - mb.position;
-    let distance_squared = d.length_squared();
-    let reach = ma.radius + mb.radius;
-    // As narrow_phase::sphere_sphere: the normal points from the partner to `a`.
-    let distance = distance_squared.sqrt();
-    let normal = if distance > 0.0 {
-        d * (1.0 / distance)
-    } else {
-        DVec3::Z
-    };
-    let overlap = reach - distance;
-    let g = ContactPoint {
-        normal,
-        point: mb.position + normal * (mb.radius - 0.5 * overlap),
-        overlap,
-    };
+    let g = narrow_phase::overlapping_spheres(ma.position, ma.radius, mb.position, mb.radius);
     // As LawInputs::respond for two bodies.
     let arm_a = g.point - ma.position;
     let arm_b = g.point - mb.position;
@@ -137,7 +123,7 @@ mod tests {
     use crate::contact_law::Response;
     use crate::integrate::BodyMotion;
     use crate::material::{Material, PairTable};
-    use crate::math::DQuat;
+    use crate::math::{DQuat, DVec3};
     use crate::narrow_phase;
     use crate::shape::{Shape, Sphere};
     use crate::step::Scene;
