@@ -33,6 +33,11 @@ const WIDTH: f64 = 0.04;
 const HEIGHT: f64 = 0.01;
 
 fn incline(theta_degrees: f64) -> (Prepared, DVec3, DVec3) {
+    incline_under(theta_degrees, "volume")
+}
+
+/// The box on the incline with the polyhedral contact law `law` ("volume" or "vertex").
+fn incline_under(theta_degrees: f64, law: &str) -> (Prepared, DVec3, DVec3) {
     let theta = theta_degrees.to_radians();
     let normal = DVec3::new(-theta.sin(), 0.0, theta.cos());
     // Down the slope.
@@ -44,6 +49,9 @@ fn incline(theta_degrees: f64) -> (Prepared, DVec3, DVec3) {
 duration = 1.0
 gravity = [0.0, 0.0, -{G}]
 threads = 1
+
+[contact]
+polyhedra = "{law}"
 
 [[material]]
 name = "m"
@@ -130,8 +138,21 @@ fn flat_box_sticks_below_the_friction_angle() {
 
 #[test]
 fn flat_box_slides_above_the_friction_angle() {
+    slides_above_the_friction_angle("volume");
+}
+
+/// The same under the vertex law (one spring per touching corner), to the 1 % issue #11 asks. (This
+/// box, settling at rest first, does not show the 25 % excess the issue reports for a cube under
+/// the vertex law; the law's fix is tested in `contact_law::tangential` and
+/// `tests/physics_spinning_impact.rs`.)
+#[test]
+fn flat_box_slides_above_the_friction_angle_under_the_vertex_law() {
+    slides_above_the_friction_angle("vertex");
+}
+
+fn slides_above_the_friction_angle(law: &str) {
     let theta: f64 = 35.0; // tan θ = 0.700 > μ = 0.5
-    let (mut p, down, normal) = incline(theta);
+    let (mut p, down, normal) = incline_under(theta, law);
     let expected = G * (theta.to_radians().sin() - MU * theta.to_radians().cos());
     let w = &mut p.world;
     let dt = w.time_step();
@@ -157,10 +178,10 @@ fn flat_box_slides_above_the_friction_angle() {
     let error = slope / expected - 1.0;
     let turn = turn_angle(w.bodies().orientation[0] * q0.inverse());
     println!(
-        "θ = {theta}°: a = {slope:.8} m/s² vs g(sin θ − μ cos θ) = {expected:.8} (rel. {error:+.1e}); \
+        "{law} law, θ = {theta}°: a = {slope:.8} m/s² vs g(sin θ − μ cos θ) = {expected:.8} (rel. {error:+.1e}); \
          height change {max_off_line:.1e} m, turned {turn:.1e} rad"
     );
-    assert!(error.abs() < 0.02, "acceleration off by {error:e}");
+    assert!(error.abs() < 0.01, "acceleration off by {error:e}");
     // Sinking into the plane by the static overlap (~0.6 µm) is all the centre may move normal to
     // it; a turn of 1e-3 rad would already be a visible tilt (0.06°) — the box does not topple.
     assert!(max_off_line < 1e-5);

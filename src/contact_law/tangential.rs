@@ -31,7 +31,9 @@ pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
 /// The elongation ξ is kept from the previous step; as the contact turns, ξ is projected onto the
 /// current tangent plane and rescaled to its former length so that turning alone neither creates
 /// nor destroys spring energy. When the trial force exceeds the Coulomb limit the contact slides:
-/// the force is set to the limit and ξ shortened to match. Energy: the work the force does against
+/// the force is μ F_n along the trial force, the spring holds all of it and the dashpot is off (so
+/// the spring never stores more than μ F_n / k_t, and while the contact slides one way the force
+/// stays against the slip). Energy: the work the force does against
 /// the relative motion, less the change in spring energy, is what was dissipated (with Mindlin's
 /// overlap-dependent k_t this includes the small energy the changing stiffness adds or removes).
 #[inline]
@@ -60,16 +62,24 @@ pub fn tangential_force(
     };
     let gamma = normal.damping_coefficient * ratio;
     let damping = -gamma * k.tangential_velocity_end;
-    let mut xi = old_xi + k.tangential_velocity * dt;
-    let mut force = -kt * xi + damping;
+    let trial_xi = old_xi + k.tangential_velocity * dt;
+    let trial = -kt * trial_xi + damping;
     let limit = law.friction * normal.total;
     // Compared squared: a sticking contact needs no root.
-    let magnitude_squared = force.length_squared();
-    if magnitude_squared > limit * limit {
-        force *= limit / magnitude_squared.sqrt();
-        // Spring elongation consistent with the limited force (LAMMPS: ξ = −(F + γ v_t)/k_t).
-        xi = -(force - damping) / kt;
-    }
+    let trial_squared = trial.length_squared();
+    let (force, xi, damper_loss) = if trial_squared <= limit * limit {
+        let loss = gamma * k.tangential_velocity_end.length_squared() * dt;
+        (trial, trial_xi, loss)
+    } else {
+        // Sliding: the force is capped at μ F_n along the trial force, and the spring alone holds
+        // it (ξ = −F/k_t), the dashpot off (Luding 2008's rule for the static limit, without
+        // the dashpot in the stored spring). Resetting ξ to −(F − damping)/k_t instead (LAMMPS,
+        // LIGGGHTS) leaves the spring pointing along the slip whenever the dashpot alone exceeds
+        // μ F_n, and when k_t grows the next step's capped force pushes the body along its slip
+        // (issue #11). Here the spring stays against the slip, so the next trial force is too.
+        let force = trial * (limit / trial_squared.sqrt());
+        (force, force * (-1.0 / kt), 0.0)
+    };
     history.tangential_spring = xi;
     history.tangential_stiffness = kt;
     let elastic_energy = 0.5 * kt * xi.length_squared();
@@ -81,8 +91,7 @@ pub fn tangential_force(
     TangentialForce {
         force,
         elastic_energy,
-        dissipated: spring_work - (elastic_energy - old_energy)
-            + gamma * k.tangential_velocity_end.length_squared() * dt,
+        dissipated: spring_work - (elastic_energy - old_energy) + damper_loss,
     }
 }
 
@@ -99,4 +108,113 @@ pub fn rotate_into_plane(v: DVec3, n: DVec3) -> DVec3 {
         return DVec3::ZERO;
     }
     projected * (length_squared / projected_squared).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_law::normal::normal_force;
+    use crate::material::{Material, PairTable};
+    use proptest::prelude::*;
+
+    /// A Hertz–Mindlin pair of soft beads with a strong dashpot (e = 0.1), μ = 0.3.
+    fn law() -> PairLaw {
+        static LAW: std::sync::OnceLock<PairLaw> = std::sync::OnceLock::new();
+        *LAW.get_or_init(|| {
+            let bead = Material {
+                name: "bead".into(),
+                density: 2500.0,
+                youngs_modulus: 5e6,
+                poisson_ratio: 0.25,
+                restitution: 0.1,
+                friction: 0.3,
+                rolling_friction: 0.0,
+            };
+            *PairTable::new(&[bead], NormalLaw::Hertz, 2.0 / 7.0, &[]).get(0, 0)
+        })
+    }
+
+    fn kinematics(overlap: f64, overlap_rate: f64, slip: DVec3, slip_end: DVec3) -> Kinematics {
+        Kinematics {
+            normal: DVec3::Z,
+            overlap,
+            overlap_rate,
+            tangential_velocity: slip,
+            tangential_velocity_end: slip_end,
+            relative_angular_velocity: DVec3::ZERO,
+            effective_radius: 1e-3,
+            effective_mass: 1e-5,
+            overlap_volume: None,
+        }
+    }
+
+    /// One step of the law; returns the force, the Coulomb limit and whether the trial force (the
+    /// spring stretched by this step's slip, plus the dashpot) exceeded it, i.e. the contact slid.
+    fn step(k: &Kinematics, history: &mut History, dt: f64) -> (DVec3, f64, bool) {
+        let law = law();
+        let n = normal_force(&law, k);
+        let limit = law.friction * n.total;
+        let kt = stiffness(&law, &n, k);
+        let gamma = n.damping_coefficient * law.tangential_damping_ratio;
+        let trial_xi =
+            rotate_into_plane(history.tangential_spring, k.normal) + k.tangential_velocity * dt;
+        let trial = -kt * trial_xi - gamma * k.tangential_velocity_end;
+        let sliding = trial.length() > limit;
+        let t = tangential_force(&law, k, &n, history, dt);
+        (t.force, limit, sliding)
+    }
+
+    /// Issue #11: after a step in which the dashpot alone exceeded μ F_n, the spring was left
+    /// pointing along the slip, and when k_t grew the next step (the overlap deepening) the capped
+    /// force pushed the body along its slip at the full μ F_n.
+    #[test]
+    fn friction_does_not_push_along_the_slip_after_the_dashpot_exceeded_the_limit() {
+        let mut history = History::default();
+        let dt = 1e-5;
+        // A grazing contact sliding fast: the dashpot alone is far above μ F_n.
+        let fast = DVec3::new(2.0, 0.0, 0.0);
+        let (_, _, slid) = step(&kinematics(1e-7, 0.0, fast, fast), &mut history, dt);
+        assert!(slid);
+        // Deeper, stiffer, slower, still sliding the same way.
+        let slow = DVec3::new(0.05, 0.0, 0.0);
+        let (force, limit, _) = step(&kinematics(2e-5, 0.0, slow, slow), &mut history, dt);
+        assert!(
+            force.dot(slow) <= 0.0,
+            "friction {force} pushes along the slip {slow}"
+        );
+        assert!(force.length() <= limit * (1.0 + 1e-12));
+    }
+
+    proptest! {
+        /// Over random histories of normal and tangential motion: the friction force never
+        /// exceeds μ F_n; whenever the contact slides the spring holds no more than the Coulomb
+        /// force, and the force opposes the slip unless the slip just reversed.
+        #[test]
+        fn friction_is_bounded_and_opposes_sliding(
+            steps in prop::collection::vec(
+                (1e-8..5e-5f64, -0.2..0.2f64, -1.0..1.0f64, -1.0..1.0f64, -0.1..0.1f64),
+                1..40,
+            ),
+        ) {
+            let mut history = History::default();
+            let dt = 1e-5;
+            for (overlap, rate, vx, vy, change) in steps {
+                let slip = DVec3::new(vx, vy, 0.0);
+                let k = kinematics(overlap, rate, slip, slip * (1.0 + change));
+                let spring_before = history.tangential_spring;
+                let (force, limit, slid) = step(&k, &mut history, dt);
+                prop_assert!(force.length() <= limit * (1.0 + 1e-12), "{force} over {limit}");
+                // On a reversal (the spring loaded against the new slip) its release may push
+                // along the motion: elastic recovery, not friction (Mindlin & Deresiewicz 1953).
+                let reversal = spring_before.dot(slip) < 0.0;
+                if slid {
+                    let held = history.tangential_stiffness * history.tangential_spring.length();
+                    prop_assert!(held <= limit * (1.0 + 1e-12), "spring holds {held} > {limit}");
+                    if !reversal {
+                        prop_assert!(force.dot(slip) <= 0.0, "friction {force} along the slip {slip}");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -46,13 +46,22 @@ pub fn twisting_torque(
     let damping = -gamma * twist_rate;
     let old = history.twisting_torque;
     let old_stiffness = history.twisting_stiffness;
-    let mut spring = old - stiffness * twist_rate * dt;
-    let mut torque = spring + damping;
+    let trial_spring = old - stiffness * twist_rate * dt;
+    let trial = trial_spring + damping;
     let limit = law.friction * normal.total * 2.0 * radius / 3.0;
-    if torque.abs() > limit {
-        torque = limit.copysign(torque);
-        spring = torque - damping;
-    }
+    let (torque, spring, damper_loss) = if trial.abs() <= limit {
+        (trial, trial_spring, gamma * twist_rate * twist_rate * dt)
+    } else {
+        // Sliding: the limit against the twist, held by the spring alone, dashpot off (the rule
+        // of the tangential spring, see `tangential_force`).
+        let against = if twist_rate != 0.0 {
+            -twist_rate
+        } else {
+            trial
+        };
+        let torque = limit.copysign(against);
+        (torque, torque, 0.0)
+    };
     history.twisting_torque = spring;
     history.twisting_stiffness = stiffness;
     let energy = |m: f64, s: f64| if s > 0.0 { 0.5 * m * m / s } else { 0.0 };
@@ -63,7 +72,6 @@ pub fn twisting_torque(
     TwistingTorque {
         torque,
         elastic_energy,
-        dissipated: -spring_work - (elastic_energy - energy(old, old_stiffness))
-            + gamma * twist_rate * twist_rate * dt,
+        dissipated: -spring_work - (elastic_energy - energy(old, old_stiffness)) + damper_loss,
     }
 }
