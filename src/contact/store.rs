@@ -52,30 +52,57 @@ struct Persistent {
 }
 
 impl Persistent {
-    fn clear(&mut self) {
-        self.key.clear();
-        self.kind.clear();
-        self.touching.clear();
-        self.geometry.clear();
-        self.history.clear();
-        self.spin.clear();
+    /// Moves entry `from` to `to` (its state; the kind is set by the caller).
+    fn move_entry(&mut self, from: usize, to: usize) {
+        if from == to {
+            return;
+        }
+        self.key[to] = self.key[from];
+        self.touching[to] = self.touching[from];
+        self.geometry[to] = self.geometry[from];
+        self.history[to] = self.history[from];
+        if !self.spin.is_empty() {
+            self.spin[to] = self.spin[from];
+        }
     }
 
-    fn push(
-        &mut self,
-        key: ContactKey,
-        kind: PairKind,
-        touching: bool,
-        geometry: ContactPoint,
-        history: (History, Option<SpinHistory>),
-    ) {
-        self.key.push(key);
-        self.kind.push(kind);
-        self.touching.push(touching);
-        self.geometry.push(geometry);
-        self.history.push(history.0);
-        if let Some(spin) = history.1 {
-            self.spin.push(spin);
+    /// Makes entry `k` a new contact under `key`, touching nothing yet.
+    fn reset_entry(&mut self, k: usize, key: ContactKey) {
+        self.key[k] = key;
+        self.touching[k] = false;
+        self.geometry[k] = ContactPoint::default();
+        self.history[k] = History::default();
+        if !self.spin.is_empty() {
+            self.spin[k] = SpinHistory::default();
+        }
+    }
+
+    fn truncate(&mut self, len: usize) {
+        self.key.truncate(len);
+        self.kind.truncate(len);
+        self.touching.truncate(len);
+        self.geometry.truncate(len);
+        self.history.truncate(len);
+        if !self.spin.is_empty() {
+            self.spin.truncate(len);
+        }
+    }
+
+    /// Grows (or shrinks) the arrays to `len` entries, with spin histories if `spins`; new
+    /// entries are filled by the caller.
+    fn resize(&mut self, len: usize, spins: bool) {
+        let key = ContactKey {
+            a: 0,
+            partner: Partner::Body(0),
+            region: 0,
+        };
+        self.key.resize(len, key);
+        self.kind.resize(len, PairKind::Single);
+        self.touching.resize(len, false);
+        self.geometry.resize(len, ContactPoint::default());
+        self.history.resize(len, History::default());
+        if spins {
+            self.spin.resize(len, SpinHistory::default());
         }
     }
 
@@ -107,8 +134,8 @@ pub struct ContactStore {
     incoming: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
-    /// The entries before the last [`ContactStore::set_candidates`] (kept to reuse their memory).
-    previous: Persistent,
+    /// The keys and kinds of the last [`ContactStore::set_candidates`] (working memory).
+    new_keys: Vec<(ContactKey, PairKind)>,
 }
 
 impl ContactStore {
@@ -119,6 +146,11 @@ impl ContactStore {
     ///
     /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep; `spins`: some
     /// contacts may have rolling or twisting springs (rolling friction or polyhedra).
+    ///
+    /// The merge is done in place, with no second copy of the entries: the entries that stay are
+    /// first moved down over those that go (front to back), then spread out to their new places
+    /// with the new ones between them (back to front). Both keep every entry at or before
+    /// (resp. after) where it was read, so nothing is overwritten before it is moved.
     pub fn set_candidates(
         &mut self,
         candidates: &[Candidate],
@@ -129,16 +161,13 @@ impl ContactStore {
         debug_assert!(candidates
             .windows(2)
             .all(|w| (w[0].a, w[0].partner) < (w[1].a, w[1].partner)));
-        std::mem::swap(&mut self.entries, &mut self.previous);
-        self.entries.clear();
+        // The new keys, in order.
         self.regional.clear();
-        let old = &self.previous;
-        let mut o = 0;
-        let mut lost = 0.0;
+        self.new_keys.clear();
         for c in candidates {
             let regional = c.kind == PairKind::Regional;
             if regional {
-                self.regional.push(self.entries.key.len() as u32);
+                self.regional.push(self.new_keys.len() as u32);
             }
             let regions = if regional { MAX_REGIONS as u8 } else { 1 };
             for region in 0..regions {
@@ -147,42 +176,56 @@ impl ContactStore {
                     partner: c.partner,
                     region,
                 };
-                while o < old.key.len() && old.key[o] < key {
-                    if old.touching[o] {
-                        lost += old.stored_energy(o);
-                    }
-                    o += 1;
-                }
-                let spin = |k: Option<usize>| {
-                    spins.then(|| k.and_then(|k| old.spin.get(k).copied()).unwrap_or_default())
-                };
-                if o < old.key.len() && old.key[o] == key {
-                    let (touching, geometry) = (old.touching[o], old.geometry[o]);
-                    let history = (old.history[o], spin(Some(o)));
-                    self.entries.push(key, c.kind, touching, geometry, history);
-                    o += 1;
-                } else {
-                    let history = (History::default(), spin(None));
-                    let nothing = ContactPoint::default();
-                    self.entries.push(key, c.kind, false, nothing, history);
-                }
+                self.new_keys.push((key, c.kind));
             }
         }
-        for k in o..old.key.len() {
-            if old.touching[k] {
-                lost += old.stored_energy(k);
+        let e = &mut self.entries;
+        if spins {
+            e.spin.resize(e.key.len(), SpinHistory::default());
+        } else {
+            e.spin.clear();
+        }
+        // 1. Keep the entries whose key is still a candidate, in order, moved down.
+        let mut lost = 0.0;
+        let mut kept = 0;
+        let mut next = 0;
+        for o in 0..e.key.len() {
+            let key = e.key[o];
+            while next < self.new_keys.len() && self.new_keys[next].0 < key {
+                next += 1;
+            }
+            if next < self.new_keys.len() && self.new_keys[next].0 == key {
+                e.move_entry(o, kept);
+                kept += 1;
+            } else if e.touching[o] {
+                lost += e.stored_energy(o);
             }
         }
-        let entries = self.entries.key.len();
+        e.truncate(kept);
+        // 2. Spread them to their new places from the back, new entries between them.
+        let count = self.new_keys.len();
+        e.resize(count, spins);
+        let mut o = kept;
+        for k in (0..count).rev() {
+            let (key, kind) = self.new_keys[k];
+            if o > 0 && e.key[o - 1] == key {
+                o -= 1;
+                e.move_entry(o, k);
+            } else {
+                e.reset_entry(k, key);
+            }
+            e.kind[k] = kind;
+        }
+        debug_assert_eq!(o, 0);
         self.load.clear();
-        self.load.resize(entries, Load::default());
+        self.load.resize(count, Load::default());
         self.report.clear();
-        self.report.resize(entries, LawReport::default());
+        self.report.resize(count, LawReport::default());
         // A continuing regional contact's volume is found again before it is used; single
         // contacts write theirs every step.
         self.volume.clear();
         if volumes {
-            self.volume.resize(self.entries.key.len(), None);
+            self.volume.resize(count, None);
         }
         self.index(bodies);
         lost
@@ -592,6 +635,93 @@ mod tests {
         assert_eq!(c.spin.unwrap().rolling_torque, DVec3::Y);
         let lost = store.set_candidates(&more[..2], 3, false, true);
         assert_eq!(lost, 0.5 / 0.25);
+    }
+
+    proptest::proptest! {
+        /// The in-place merge of a new candidate list gives what a merge into fresh arrays
+        /// gives: every continuing key keeps its state, new keys start afresh, dropped touching
+        /// contacts give back their springs' energy; over random sequences of lists.
+        #[test]
+        fn in_place_merge_matches_a_fresh_merge(
+            lists in proptest::collection::vec(
+                proptest::collection::btree_set((0u32..6, 0u32..8, 0u8..3), 0..30),
+                1..6,
+            ),
+            spins in proptest::bool::ANY,
+        ) {
+            use std::collections::BTreeMap;
+            let mut store = ContactStore::default();
+            // The model: key -> (kind, touching, spring, rolling torque).
+            let mut model: BTreeMap<ContactKey, (PairKind, bool, DVec3, DVec3)> = BTreeMap::new();
+            for (round, list) in lists.iter().enumerate() {
+                let candidates: Vec<Candidate> = list
+                    .iter()
+                    .map(|&(a, p, kind)| Candidate {
+                        a,
+                        partner: if p < 6 { Partner::Body(p) } else { Partner::Plane(p - 6) },
+                        kind: [PairKind::Single, PairKind::Spheres, PairKind::Regional][kind as usize],
+                    })
+                    .map(|c| ((c.a, c.partner), c))
+                    .collect::<std::collections::BTreeMap<_, _>>()
+                    .into_values()
+                    .collect();
+                let mut fresh = BTreeMap::new();
+                for c in &candidates {
+                    let regions = if c.kind == PairKind::Regional { MAX_REGIONS as u8 } else { 1 };
+                    for region in 0..regions {
+                        let key = ContactKey { a: c.a, partner: c.partner, region };
+                        let state = model.get(&key).map_or(
+                            (c.kind, false, DVec3::ZERO, DVec3::ZERO),
+                            |&(_, t, x, r)| (c.kind, t, x, r),
+                        );
+                        fresh.insert(key, state);
+                    }
+                }
+                let expected_lost: f64 = model
+                    .iter()
+                    .filter(|(k, s)| s.1 && !fresh.contains_key(k))
+                    .map(|(_, s)| 0.5 * s.2.length_squared() + if spins { s.3.length_squared() } else { 0.0 })
+                    .sum();
+                let lost = store.set_candidates(&candidates, 6, false, spins);
+                model = fresh;
+                proptest::prop_assert!((lost - expected_lost).abs() <= 1e-12 * (1.0 + expected_lost));
+                let keys: Vec<ContactKey> = model.keys().copied().collect();
+                proptest::prop_assert_eq!(store.keys(), &keys[..]);
+                for (k, (key, &(kind, touching, spring, rolling))) in model.iter().enumerate() {
+                    proptest::prop_assert_eq!(store.entries.kind[k], kind, "{:?}", key);
+                    proptest::prop_assert_eq!(store.entries.touching[k], touching);
+                    proptest::prop_assert_eq!(store.entries.history[k].tangential_spring, spring);
+                    if spins {
+                        proptest::prop_assert_eq!(store.entries.spin[k].rolling_torque, rolling);
+                    } else {
+                        proptest::prop_assert!(store.entries.spin.is_empty());
+                    }
+                }
+                // Give some entries a state for the next round: touching, with springs of known
+                // energy (stiffness 1: energy |ξ|²/2; rolling stiffness 0.5: energy |M|²).
+                for (k, (_, state)) in model.iter_mut().enumerate() {
+                    if (k + round) % 3 == 0 {
+                        let spring = DVec3::new(k as f64 + 1.0, round as f64, 0.5);
+                        store.entries.touching[k] = true;
+                        store.entries.history[k] = History {
+                            tangential_spring: spring,
+                            tangential_stiffness: 1.0,
+                        };
+                        state.1 = true;
+                        state.2 = spring;
+                        if spins {
+                            let rolling = DVec3::new(0.0, 1.0, k as f64);
+                            store.entries.spin[k] = SpinHistory {
+                                rolling_torque: rolling,
+                                rolling_stiffness: 0.5,
+                                ..SpinHistory::default()
+                            };
+                            state.3 = rolling;
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
