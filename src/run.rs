@@ -3,7 +3,64 @@
 use crate::io::output::RunOutput;
 use crate::scene::{InsertionReport, Prepared};
 use crate::World;
+use std::fmt;
 use std::path::Path;
+
+/// Why a run stopped before its end.
+#[derive(Debug)]
+pub enum RunError {
+    /// Writing the output failed.
+    Output(std::io::Error),
+    /// The state stopped being finite: the run blew up. The outputs written before stay valid.
+    BlowUp(String),
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        match self {
+            RunError::Output(e) => write!(f, "{e}"),
+            RunError::BlowUp(why) => f.write_str(why),
+        }
+    }
+}
+
+impl From<std::io::Error> for RunError {
+    fn from(e: std::io::Error) -> Self {
+        RunError::Output(e)
+    }
+}
+
+/// The first body whose position, velocity (squared: a speed of 1e200 m/s has no finite kinetic
+/// energy) or angular momentum is not finite, as a message saying what, where and when; `None`
+/// while the state is sound. O(bodies): run after every chunk of steps.
+pub fn blow_up(world: &World) -> Option<String> {
+    let b = world.bodies();
+    let bad = (0..b.len()).find(|&i| {
+        !(b.position[i].is_finite()
+            && b.velocity[i].length_squared().is_finite()
+            && b.angular_momentum[i].length_squared().is_finite())
+    })?;
+    let vector = |v: crate::math::DVec3| format!("({:.3e}, {:.3e}, {:.3e}) ", v.x, v.y, v.z);
+    let what = if !b.position[bad].is_finite() {
+        format!("position {}m", vector(b.position[bad]))
+    } else if !b.velocity[bad].length_squared().is_finite() {
+        format!("velocity {}m/s", vector(b.velocity[bad]))
+    } else {
+        format!(
+            "angular momentum {}kg m²/s",
+            vector(b.angular_momentum[bad])
+        )
+    };
+    Some(format!(
+        "the run blew up at t = {:.6e} s (step {}): body {} has {what}. Likely causes: a time \
+         step above the stable one (`force_time_step`; `polydem check` prints the estimate), \
+         initial velocities or gravity far beyond the scene's scale, or material values (E, \
+         density, restitution) out of any physical range. The frames written before are valid.",
+        world.time(),
+        world.steps_done(),
+        b.id[bad],
+    ))
+}
 
 /// What a run tells its caller as it goes.
 pub enum RunEvent<'a> {
@@ -14,13 +71,14 @@ pub enum RunEvent<'a> {
 }
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
-/// output interval, and doing scheduled insertions at their times. Chunks of steps are short
+/// output interval, and doing scheduled insertions at their times. Stops with
+/// [`RunError::BlowUp`] as soon as the state is no longer finite (checked after every chunk). Chunks of steps are short
 /// enough for a lively progress display and long enough to keep the per-chunk overhead negligible.
 pub fn run(
     prepared: &mut Prepared,
     out_dir: &Path,
     mut observe: impl FnMut(RunEvent),
-) -> std::io::Result<RunOutput> {
+) -> Result<RunOutput, RunError> {
     let total_steps = total_steps(prepared);
     let dt = prepared.world.time_step();
     let step_of = |time: f64| (time / dt).round() as u64;
@@ -42,6 +100,9 @@ pub fn run(
         while prepared.world.steps_done() < until {
             let chunk = (until - prepared.world.steps_done()).min(200);
             prepared.world.run_steps(chunk);
+            if let Some(why) = blow_up(&prepared.world) {
+                return Err(RunError::BlowUp(why));
+            }
             observe(RunEvent::Progress(&prepared.world));
         }
         if next_insertion.is_some_and(|s| s <= prepared.world.steps_done()) {

@@ -539,3 +539,45 @@ fn tiny_run_writes_complete_output_and_no_temporaries() {
     let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
     assert_eq!(energy.lines().count(), 1 + 5, "{energy}");
 }
+
+/// Issue #12: a run whose state stops being finite (here a bead thrown at 1e200 m/s, whose
+/// kinetic energy overflows) stops at once with an error that says what blew up, where and when,
+/// and a non-zero exit; the frame written before it stays.
+#[test]
+fn a_run_that_blows_up_stops_and_says_why() {
+    let scene = edit(
+        "position = [0.0, 0.0, 0.006]\n",
+        "position = [0.0, 0.0, 0.006]\nvelocity = [1.0e200, 0.0, 0.0]\n",
+    )
+    .replace(
+        "output_interval = 0.0005\n",
+        "output_interval = 0.0005\ntime_step = 1.0e-6\nforce_time_step = true\n",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, &scene).unwrap();
+    let output = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert!(
+        !output.status.success(),
+        "exit 0 after a blow-up:\n{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for expected in ["blew up", "body 0", "velocity", "t = ", SCENE] {
+        assert!(
+            stderr.contains(expected),
+            "'{expected}' missing from:\n{stderr}"
+        );
+    }
+    let frames = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".vtp"))
+        .count();
+    assert!(frames >= 1, "the first frame is gone");
+}

@@ -239,7 +239,10 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
         }
     });
     bar.finish_and_clear();
-    result.map_err(|e| format!("writing output to '{}': {e}", out.display()))?;
+    result.map_err(|e| match e {
+        polydem::run::RunError::Output(e) => format!("writing output to '{}': {e}", out.display()),
+        blow_up => format!("{}: {blow_up}", scene.display()),
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     let w = &prepared.world;
     println!(
