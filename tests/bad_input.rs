@@ -581,3 +581,29 @@ fn a_run_that_blows_up_stops_and_says_why() {
         .count();
     assert!(frames >= 1, "the first frame is gone");
 }
+
+/// Issue #12: a duration shorter than half a step ran a whole step; one of more steps than any run
+/// can take saturated the step count and never ended. Both are refused, at the `duration` key.
+#[test]
+fn durations_out_of_reach_of_the_step_are_refused() {
+    let forced = |duration: &str| {
+        edit("duration = 0.002\n", &format!("duration = {duration}\n")).replace(
+            "output_interval = 0.0005\n",
+            "time_step = 1.0e-6\nforce_time_step = true\n",
+        )
+    };
+    let short = forced("1.0e-7");
+    refused(
+        Some(&short),
+        &[
+            &at(&short, "duration ="),
+            "duration",
+            "shorter than half the time step",
+        ],
+    );
+    let long = forced("1.0e9");
+    refused(
+        Some(&long),
+        &[&at(&long, "duration ="), "duration", "1.000e15 steps"],
+    );
+}

@@ -23,6 +23,9 @@ pub(super) struct StepInputs<'a> {
     pub gravity: DVec3,
 }
 
+/// More steps than any run can take: refused, as a sign of a scale error in the scene.
+const MAX_STEPS: f64 = 1e11;
+
 impl Scene {
     /// The time step to run with, the stable estimate, and whether the step was chosen
     /// automatically; an error if there is nothing to simulate or the user's step is above the
@@ -76,8 +79,13 @@ impl Scene {
                 "the scene has no particles: nothing to simulate (add [[particle]] or [[insert]])",
             )
             })?;
+        let (dt, automatic) = match spec.simulation.time_step {
+            TimeStep::Auto => (estimate.seconds, true),
+            TimeStep::Seconds(dt) => (dt, false),
+        };
+        self.check_step_count(dt, &estimate)?;
         match spec.simulation.time_step {
-            TimeStep::Auto => Ok((estimate.seconds, estimate, true)),
+            TimeStep::Auto => Ok((dt, estimate, automatic)),
             TimeStep::Seconds(dt) => {
                 if dt > estimate.seconds && !spec.simulation.force_time_step {
                     return Err(self.error(
@@ -93,6 +101,46 @@ impl Scene {
                 Ok((dt, estimate, false))
             }
         }
+    }
+
+    /// A step that is no step (zero, not finite: degenerate radii, densities or moduli make the
+    /// estimate so), a duration shorter than half a step (nothing would be simulated, yet a whole
+    /// step would run), or more steps than any run can take, are refused with the reason.
+    fn check_step_count(&self, dt: f64, estimate: &timestep::Estimate) -> Result<(), SceneError> {
+        let sim = KeyPath::table("simulation");
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(self.error(
+                sim.key("time_step"),
+                format!(
+                    "the time step comes out as {dt:e} s ({}), which cannot be run: check the \
+                     particles' sizes, densities and the materials' moduli for values out of any \
+                     physical range",
+                    estimate.reason
+                ),
+            ));
+        }
+        let duration = self.spec.simulation.duration;
+        if duration < 0.5 * dt {
+            return Err(self.error(
+                sim.key("duration"),
+                format!(
+                    "{duration:e} s is shorter than half the time step ({dt:e} s): nothing would be \
+                     simulated; give a duration of at least one step"
+                ),
+            ));
+        }
+        let steps = duration / dt;
+        if steps > MAX_STEPS {
+            return Err(self.error(
+                sim.key("duration"),
+                format!(
+                    "{duration:e} s at a step of {dt:e} s is {steps:.3e} steps, more than the \
+                     {MAX_STEPS:e} any run could take (a thousand hours even at 10⁸ steps an hour); \
+                     shorten the duration or check the scene's scale"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
