@@ -119,8 +119,6 @@ mod tests {
     use crate::body::{Bodies, BodyInit};
     use crate::contact::{PairKind, Partner};
     use crate::contact_law::NormalLaw;
-    #[allow(unused_imports)]
-    use crate::contact_law::Response;
     use crate::integrate::BodyMotion;
     use crate::material::{Material, PairTable};
     use crate::math::{DQuat, DVec3};
