@@ -59,14 +59,13 @@ pub fn pack(b: &Bodies, motion: &mut Vec<BodyMotion>) {
         .enumerate()
         .with_min_len(1024)
         .for_each(|(i, m)| {
-            *m = BodyMotion::predict(
-                b.position[i],
-                b.velocity[i],
-                b.angular_velocity[i],
-                (b.orientation[i], b.angular_momentum[i], b.inv_inertia[i]),
-                (DVec3::ZERO, DVec3::ZERO),
-                0.0,
-                b.bounding_radius[i],
-            );
+            *m = BodyMotion {
+                position: b.position[i],
+                velocity: b.velocity[i],
+                angular_velocity: b.angular_velocity[i],
+                velocity_end: b.velocity[i],
+                angular_velocity_end: b.angular_velocity[i],
+                radius: b.bounding_radius[i],
+            };
         });
 }
