@@ -17,9 +17,11 @@ use crate::wall::{MeshWall, WallState};
 
 mod config;
 mod population;
+mod snapshot;
 mod view;
 
 pub use config::WorldConfig;
+pub use snapshot::{RestoreError, ShapeRecord, WorldState};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances
 /// them. Built complete by [`World::new`] (and the `with_*` parts that a world may lack: mesh

@@ -2,10 +2,13 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use polydem::run::RunEvent;
+use polydem::checkpoint::SceneRecord;
+use polydem::run::{Control, ResumeOptions, RunError, RunEvent};
 use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -28,6 +31,22 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Worker threads, overriding the scene's `threads` (0: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Continue a run from the newest checkpoint in its output folder, into the same output
+    /// series; the result is the same, bit for bit, as if the run had never stopped.
+    Resume {
+        /// The run's output folder (with its `checkpoints/`).
+        dir: PathBuf,
+        /// Continue with this scene file instead of the one stored in the checkpoint; it may
+        /// differ only in the duration, output and checkpoint intervals and threads.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// A new end time [s], e.g. to run a finished run further.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Worker threads (0: one per core); results do not depend on them.
         #[arg(long)]
         threads: Option<usize>,
     },
@@ -113,6 +132,19 @@ fn main() -> ExitCode {
             out,
             threads,
         } => run(&scene, out, threads),
+        Command::Resume {
+            dir,
+            scene,
+            duration,
+            threads,
+        } => resume(
+            &dir,
+            ResumeOptions {
+                scene,
+                threads,
+                duration,
+            },
+        ),
         Command::Check { scene } => check(&scene),
         Command::Bench {
             what:
@@ -153,12 +185,19 @@ fn main() -> ExitCode {
     }
 }
 
-fn prepare(scene: &Path, threads: Option<usize>) -> Result<Prepared, String> {
+/// Exit code of a run stopped by SIGINT or SIGTERM, as shells report a process ended by SIGINT.
+const EXIT_INTERRUPTED: u8 = 130;
+
+fn load(scene: &Path, threads: Option<usize>) -> Result<Scene, String> {
     let mut scene = Scene::load(scene).map_err(|e| e.to_string())?;
     if let Some(threads) = threads {
         scene.spec.simulation.threads = threads;
     }
-    scene.build().map_err(|e| e.to_string())
+    Ok(scene)
+}
+
+fn prepare(scene: &Path, threads: Option<usize>) -> Result<Prepared, String> {
+    load(scene, threads)?.build().map_err(|e| e.to_string())
 }
 
 fn describe(scene: &Path, p: &Prepared) {
@@ -204,26 +243,83 @@ fn check(scene: &Path) -> Result<(), String> {
 fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(), String> {
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
-    let mut prepared = prepare(scene, threads)?;
+    let loaded = load(scene, threads)?;
+    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone());
+    let mut prepared = loaded.build().map_err(|e| e.to_string())?;
     let out = out.unwrap_or_else(|| {
         let stem = scene.file_stem().unwrap_or_default();
         Path::new("output").join(stem)
     });
     describe(scene, &prepared);
     println!("output       {}", out.display());
+    let control = Control {
+        scene: Some(record),
+        stop: Some(stop_on_signal()),
+    };
+    let start = Instant::now();
+    let result = with_progress(|observe| {
+        polydem::run::run_with(&mut prepared, &out, control, observe).map(|_| ())
+    });
+    let first_step = result.map_err(|e| run_error(e, scene, &out))?.1;
+    report_end(&prepared, start, first_step);
+    Ok(())
+}
 
-    let steps = polydem::run::total_steps(&prepared);
-    let duration = prepared.duration;
-    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
+fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
+    let control = Control {
+        scene: None,
+        stop: Some(stop_on_signal()),
+    };
+    let start = Instant::now();
+    let result = with_progress(|observe| {
+        polydem::run::resume(dir, &options, control, observe).map(|(prepared, _)| prepared)
+    });
+    let (prepared, first_step) = result.map_err(|e| run_error(e, dir, dir))?;
+    report_end(&prepared, start, first_step);
+    Ok(())
+}
+
+/// A flag that Ctrl-C (SIGINT) and SIGTERM set, so the run stops at the next chunk of steps with
+/// a checkpoint; a second signal ends the process at once.
+fn stop_on_signal() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    let installed = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            eprintln!("\nstopping now, without a checkpoint");
+            std::process::exit(130);
+        }
+        eprintln!(
+            "\nstopping after the steps under way, with a checkpoint (Ctrl-C again: stop at once)"
+        );
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will stop the run without a checkpoint ({e})");
+    }
+    stop
+}
+
+/// Runs `go` with a progress bar on stderr, fed by the run's events; returns its result and the
+/// step the run started from.
+fn with_progress<T>(
+    go: impl FnOnce(&mut dyn FnMut(RunEvent)) -> Result<T, RunError>,
+) -> Result<(T, u64), RunError> {
+    let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
+    let mut first_step = 0;
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {percent:>3}% t = {msg} | {per_sec} | ETA {eta}")
             .expect("the template is valid"),
     );
-    let start = Instant::now();
-    let result = polydem::run::run(&mut prepared, &out, |event| match event {
+    let mut observe = |event: RunEvent| match event {
+        RunEvent::Start { from, to } => {
+            first_step = from;
+            bar.set_length(to);
+            bar.set_position(from);
+            bar.reset_eta();
+        }
         RunEvent::Progress(w) => {
             bar.set_position(w.steps_done());
-            bar.set_message(format!("{:.4} / {duration} s", w.time()));
+            bar.set_message(format!("{:.4} s", w.time()));
         }
         RunEvent::Inserted(r) => {
             let line = format!(
@@ -237,18 +333,36 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
                 None => bar.println(line),
             }
         }
-    });
+        RunEvent::Checkpoint(path) => bar.println(format!("checkpoint   {}", path.display())),
+        RunEvent::Note(note) => bar.println(format!("note         {note}")),
+    };
+    let result = go(&mut observe);
     bar.finish_and_clear();
-    result.map_err(|e| match e {
-        polydem::run::RunError::Output(e) => format!("writing output to '{}': {e}", out.display()),
-        blow_up => format!("{}: {blow_up}", scene.display()),
-    })?;
+    result.map(|r| (r, first_step))
+}
+
+/// The message of a run that failed; a run that was stopped by a signal ends the process here,
+/// with its own exit code, after saying how to continue it.
+fn run_error(e: RunError, scene: &Path, out: &Path) -> String {
+    match e {
+        RunError::Output(e) => format!("writing output to '{}': {e}", out.display()),
+        RunError::Checkpoint(e) => e.to_string(),
+        RunError::Interrupted { .. } => {
+            eprintln!("{e}: polydem resume {}", out.display());
+            std::process::exit(EXIT_INTERRUPTED.into());
+        }
+        e => format!("{}: {e}", scene.display()),
+    }
+}
+
+fn report_end(prepared: &Prepared, start: Instant, first_step: u64) {
     let seconds = start.elapsed().as_secs_f64();
     let w = &prepared.world;
+    let steps = w.steps_done() - first_step;
     println!(
-        "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s",
-        w.steps_done(),
-        (w.steps_done() as f64 * w.bodies().len() as f64) / seconds.max(1e-9)
+        "done         {steps} steps in {seconds:.2} s: {:.3e} particle-steps/s (t = {:.6} s)",
+        (steps as f64 * w.bodies().len() as f64) / seconds.max(1e-9),
+        w.time()
     );
     if w.bodies_removed() > 0 {
         println!(
@@ -256,7 +370,6 @@ fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(),
             w.bodies_removed()
         );
     }
-    Ok(())
 }
 
 fn bench_scene(

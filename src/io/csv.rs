@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use super::{atomic::write_atomic, format_f64, invalid_input};
 
 /// A CSV file with a fixed header, grown one row at a time.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CsvSeries {
     path: PathBuf,
     columns: Vec<String>,
@@ -26,6 +26,13 @@ impl CsvSeries {
             path,
             columns: columns.iter().map(|c| c.as_ref().to_string()).collect(),
             rows: Vec::new(),
+        }
+    }
+
+    /// The same series, written into `dir` under the same file name.
+    pub fn relocate(&mut self, dir: &Path) {
+        if let Some(name) = self.path.file_name() {
+            self.path = dir.join(name);
         }
     }
 

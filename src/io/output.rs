@@ -43,7 +43,7 @@ pub const ENERGY_COLUMNS: [&str; 12] = [
 ];
 
 /// What a run writes beyond the defaults.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OutputOptions {
     /// Write the force network at every frame.
     pub force_network: bool,
@@ -51,6 +51,9 @@ pub struct OutputOptions {
     pub packing_region: Option<Aabb>,
 }
 
+/// The files of one run and what they have recorded so far. Plain data, so that a checkpoint can
+/// carry it and a resumed run continues the same series (see [`RunOutput::relocate`]).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct RunOutput {
     dir: PathBuf,
     particles: PvdSeries,
@@ -105,6 +108,23 @@ impl RunOutput {
 
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// Makes the series write into `dir` (a resumed run's output folder, which may have moved
+    /// since the checkpoint was written).
+    pub fn relocate(&mut self, dir: &Path) {
+        self.dir = dir.to_path_buf();
+        for series in [
+            &mut self.particles,
+            &mut self.walls,
+            &mut self.polyhedra,
+            &mut self.contacts,
+        ] {
+            series.relocate(dir);
+        }
+        for series in [&mut self.energy, &mut self.wall_forces, &mut self.flow] {
+            series.relocate(dir);
+        }
     }
 
     /// Writes one frame of every series.

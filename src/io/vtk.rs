@@ -192,13 +192,13 @@ pub fn write_force_network(path: &Path, network: &ForceNetwork, time: f64) -> io
 
 /// A `.pvd` collection indexing a time series of `.vtp` files, so ParaView
 /// opens the whole run as one animated data set with true simulation times.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct PvdSeries {
     path: PathBuf,
     entries: Vec<PvdEntry>,
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct PvdEntry {
     time: f64,
     file: String,
@@ -211,6 +211,13 @@ impl PvdSeries {
         Self {
             path,
             entries: Vec::new(),
+        }
+    }
+
+    /// The same series, written into `dir` under the same file name.
+    pub fn relocate(&mut self, dir: &Path) {
+        if let Some(name) = self.path.file_name() {
+            self.path = dir.join(name);
         }
     }
 

@@ -194,6 +194,9 @@ pub struct OutputSpec {
     /// Mass flow meters (`flow.csv`).
     #[serde(default, rename = "flow_meter")]
     pub flow_meters: Vec<FlowMeterSpec>,
+    /// Simulated seconds between checkpoints (`checkpoints/`); none: only at the end of the run
+    /// and when it is interrupted.
+    pub checkpoint_interval: Option<f64>,
 }
 
 /// A mass flow meter: through a plane (`point`, `normal`) or out of a box (`min`, `max`).

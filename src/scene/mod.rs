@@ -43,6 +43,9 @@ pub struct Prepared {
     pub world: World,
     pub duration: f64,
     pub output_interval: f64,
+    /// Simulated seconds between checkpoints (`[output] checkpoint_interval`); `None`: only at
+    /// the end and when interrupted.
+    pub checkpoint_interval: Option<f64>,
     /// The stable-step estimate, and whether the step was chosen automatically.
     pub estimate: timestep::Estimate,
     pub automatic_time_step: bool,
@@ -373,6 +376,7 @@ impl Scene {
             world,
             duration,
             output_interval: spec.simulation.output_interval.unwrap_or(duration / 100.0),
+            checkpoint_interval: spec.output.checkpoint_interval,
             estimate,
             automatic_time_step: automatic,
             schedule,

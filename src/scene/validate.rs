@@ -14,6 +14,13 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     if let Some(interval) = s.simulation.output_interval {
         c.positive(sim.clone().key("output_interval"), interval, "s")?;
     }
+    if let Some(interval) = s.output.checkpoint_interval {
+        c.positive(
+            KeyPath::table("output").key("checkpoint_interval"),
+            interval,
+            "s",
+        )?;
+    }
     c.vector(sim.clone().key("gravity"), s.simulation.gravity)?;
     if let Some(skin) = s.simulation.skin {
         c.non_negative(sim.clone().key("skin"), skin, "m")?;

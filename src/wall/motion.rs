@@ -34,7 +34,7 @@ pub enum MotionError {
 
 /// Where a moving wall is at one moment: world point = `rotation` × reference point +
 /// `translation`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WallPose {
     pub rotation: DQuat,
     pub translation: DVec3,
@@ -255,7 +255,7 @@ impl WallMotion {
 
 /// A moving wall at one moment: translation velocity, angular velocity about `centre` (the
 /// reference point, see [`WallMotion::reference_point`]) and belt velocity.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WallState {
     pub velocity: DVec3,
     pub angular_velocity: DVec3,
