@@ -23,6 +23,7 @@ pub mod run;
 pub mod scene;
 pub mod shape;
 pub mod step;
+pub mod time_table;
 pub mod timestep;
 pub mod wall;
 pub mod world;

@@ -11,12 +11,14 @@ use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 
 /// Spheres with friction and rolling friction, poured in three batches into a box, a flow meter
-/// across the box at mid-height.
+/// across the box at mid-height; gravity tilts sideways from 0.05 s to 0.09 s (a stage that the
+/// resumed part of the run goes through).
 const SPHERES: &str = r#"
 [simulation]
 duration = 0.12
 output_interval = 0.02
 threads = 1
+gravity_table = [[0.05, 0.0, 0.0, -9.81], [0.09, 3.0, 0.0, -9.81]]
 [contact]
 normal = "hertz"
 [[material]]
@@ -63,8 +65,8 @@ point = [0.0, 0.0, 0.006]
 normal = [0.0, 0.0, -1.0]
 "#;
 
-/// Cubes and non-convex jacks tumbling in a closed drum that turns at 30 rpm; the jacks come in
-/// two batches during the run.
+/// Cubes and non-convex jacks in a closed drum that is at rest for 0.03 s, then spun up to 30 rpm
+/// by 0.05 s; the jacks come in two batches during the run.
 fn polyhedra() -> String {
     let jack = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/jack.stl");
     format!(
@@ -93,7 +95,7 @@ material = "plastic"
 generator = {{ type = "cylinder", radius = 0.06, height = 0.05, segments = 48, closed = true }}
 rotation = [1.5707963267948966, 0.0, 0.0]
 translation = [0.0, 0.025, 0.0]
-motion = {{ rpm = 30.0, axis = [0.0, 1.0, 0.0] }}
+motion = {{ rpm_table = [[0.03, 0.0], [0.05, 30.0]], axis = [0.0, 1.0, 0.0] }}
 [[insert]]
 method = "random"
 shape = "cube"
@@ -416,4 +418,42 @@ fn a_run_stopped_by_a_signal_resumes_bit_for_bit() {
         .unwrap();
     assert!(resumed.status.success(), "{resumed:?}");
     assert_same_files(&whole, &out);
+}
+
+/// A drum may be turned at another speed from the checkpoint on, not in the past: the new
+/// motion must put it where the run had it.
+#[test]
+fn a_wall_may_change_speed_from_the_checkpoint_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let text = polyhedra();
+    run_scene(dir.path(), &text, &out, None);
+    let old = "rpm_table = [[0.03, 0.0], [0.05, 30.0]]";
+    let faster = text
+        .replace(
+            old,
+            "rpm_table = [[0.03, 0.0], [0.05, 30.0], [0.095, 30.0], [0.1, 60.0]]",
+        )
+        .replace("duration = 0.09", "duration = 0.12");
+    let (_, file) = scene(dir.path(), "faster.toml", &faster);
+    let options = ResumeOptions {
+        scene: Some(file),
+        ..ResumeOptions::default()
+    };
+    let (resumed, _) = resume(&out, &options).unwrap();
+    let w = resumed.world.mesh_walls()[0]
+        .motion
+        .angular_velocity(resumed.world.time());
+    assert!((w.length() - std::f64::consts::TAU).abs() < 1e-12, "{w}");
+
+    let rewritten = text.replace(old, "rpm_table = [[0.03, 0.0], [0.05, 60.0]]");
+    let (_, file) = scene(dir.path(), "rewritten.toml", &rewritten);
+    let out2 = dir.path().join("run2");
+    run_scene(dir.path(), &text, &out2, None);
+    let options = ResumeOptions {
+        scene: Some(file),
+        ..ResumeOptions::default()
+    };
+    let message = resume(&out2, &options).err().unwrap().to_string();
+    assert!(message.contains("mesh wall 0 would be"), "{message}");
 }

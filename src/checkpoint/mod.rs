@@ -15,7 +15,7 @@ mod scene_changes;
 
 pub use file::{fnv1a, read, write, CheckpointError, FORMAT_VERSION};
 pub use folder::{checkpoint_path, checkpoints_in, folder, latest, write_keeping_two, Latest};
-pub use scene_changes::{changed_keys, ALLOWED_CHANGES};
+pub use scene_changes::{change_allowed, changed_keys, ALLOWED_CHANGES};
 
 use crate::io::output::RunOutput;
 use crate::shape::Shape;

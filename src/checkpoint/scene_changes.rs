@@ -1,15 +1,38 @@
 //! Which changes of the scene a resumed run accepts: those that do not contradict the state it
 //! continues from. Run longer or shorter, write frames or checkpoints at another interval, use
-//! other threads — yes. Another material, shape, wall or insertion — no: the bodies and contacts
-//! in the checkpoint were computed with the old ones.
+//! other threads, move a wall at another speed from now on — yes. Another material, shape, wall
+//! or insertion — no: the bodies and contacts in the checkpoint were computed with the old ones.
+//! (A wall's new motion must also put the wall where the run had it at the checkpoint's time:
+//! `World::restore` checks that.)
 
-/// The keys whose values may differ between a checkpoint's scene and the scene it is resumed with.
+/// The keys whose values may differ between a checkpoint's scene and the scene it is resumed with
+/// (`[]` stands for any index).
 pub const ALLOWED_CHANGES: &[&str] = &[
     "simulation.duration",
     "simulation.output_interval",
     "simulation.threads",
     "output.checkpoint_interval",
+    "mesh_wall[].motion",
 ];
+
+/// Whether a changed key (as [`changed_keys`] names it) is one a resumed run accepts.
+pub fn change_allowed(key: &str) -> bool {
+    // `mesh_wall[2].motion.rpm` → `mesh_wall[].motion.rpm`.
+    let mut general = String::with_capacity(key.len());
+    let mut in_index = false;
+    for c in key.chars() {
+        match c {
+            '[' => in_index = true,
+            ']' => in_index = false,
+            _ if in_index => continue,
+            _ => {}
+        }
+        general.push(c);
+    }
+    ALLOWED_CHANGES
+        .iter()
+        .any(|a| general == *a || general.starts_with(&format!("{a}.")))
+}
 
 /// The keys (as `table.key`, `array[i].key`) whose values differ between two scene files, or an
 /// error naming the file that does not parse as TOML.
@@ -84,6 +107,17 @@ mod tests {
             ]
         );
         assert!(changed_keys(old, old).unwrap().is_empty());
+    }
+
+    #[test]
+    fn wall_motions_may_change_but_not_walls() {
+        assert!(change_allowed("mesh_wall[3].motion.rpm_table"));
+        assert!(change_allowed("mesh_wall[0].motion"));
+        assert!(change_allowed("simulation.duration"));
+        assert!(!change_allowed("mesh_wall[0].generator.radius"));
+        assert!(!change_allowed("mesh_wall"));
+        assert!(!change_allowed("simulation.durationx"));
+        assert!(!change_allowed("material[0].friction"));
     }
 
     #[test]

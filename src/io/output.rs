@@ -27,7 +27,7 @@ use crate::world::World;
 use std::io;
 use std::path::{Path, PathBuf};
 
-pub const ENERGY_COLUMNS: [&str; 12] = [
+pub const ENERGY_COLUMNS: [&str; 13] = [
     "time",
     "kinetic_translational",
     "kinetic_rotational",
@@ -37,6 +37,7 @@ pub const ENERGY_COLUMNS: [&str; 12] = [
     "removed",
     "inserted",
     "wall_work",
+    "gravity_work",
     "total",
     "contacts",
     "bodies",
@@ -187,6 +188,7 @@ impl RunOutput {
             e.removed,
             e.inserted,
             e.wall_work,
+            e.gravity_work,
             e.total(),
             e.contacts as f64,
             b.len() as f64,

@@ -105,14 +105,14 @@ fn scene_to_continue_with(
         .map_err(|e| RunError::Resume(format!("'{}': {e}", file.display())))?;
     let refused: Vec<&String> = changed
         .iter()
-        .filter(|k| !ALLOWED_CHANGES.contains(&k.as_str()))
+        .filter(|k| !checkpoint::change_allowed(k))
         .collect();
     if !refused.is_empty() {
         let list: Vec<&str> = refused.iter().map(|k| k.as_str()).collect();
         return Err(RunError::Resume(format!(
             "'{}' differs from the scene the run was started with ('{}') in {}: a resumed run \
              continues from bodies and contacts computed with the old values, so only {} may \
-             change. Start a new run for the other changes",
+             change (`[]`: any index). Start a new run for the other changes",
             file.display(),
             saved.file.display(),
             list.join(", "),

@@ -227,8 +227,10 @@ pub struct Simulation {
     #[serde(default)]
     pub force_time_step: bool,
     pub duration: f64,
-    #[serde(default = "default_gravity")]
-    pub gravity: Vec3,
+    /// [m/s²]; default [0, 0, -9.81] (see [`Simulation::gravity`]).
+    pub gravity: Option<Vec3>,
+    /// Rows [time, gx, gy, gz]: gravity over time, linear between rows (runs in stages).
+    pub gravity_table: Option<Vec<[f64; 4]>>,
     /// Seconds between outputs; default: 100 outputs over the duration.
     pub output_interval: Option<f64>,
     #[serde(default)]
@@ -243,8 +245,15 @@ pub struct Simulation {
     pub initial_overlap_tolerance: f64,
 }
 
-fn default_gravity() -> Vec3 {
-    [0.0, 0.0, -9.81]
+impl Simulation {
+    /// Gravity at the start: `gravity`, else the table's first row, else Earth's downwards.
+    pub fn gravity(&self) -> Vec3 {
+        match (self.gravity, &self.gravity_table) {
+            (Some(g), _) => g,
+            (None, Some(rows)) if !rows.is_empty() => [rows[0][1], rows[0][2], rows[0][3]],
+            _ => [0.0, 0.0, -9.81],
+        }
+    }
 }
 
 fn default_overlap_tolerance() -> f64 {
@@ -379,6 +388,8 @@ pub struct MotionSpec {
     pub velocity_table: Option<Vec<[f64; 4]>>,
     /// Rotation rate [revolutions per minute] about `axis` through `axis_point`.
     pub rpm: Option<f64>,
+    /// Rows [time, rpm]: rotation rate, linear between rows (runs in stages).
+    pub rpm_table: Option<Vec<[f64; 2]>>,
     pub axis: Option<Vec3>,
     #[serde(default)]
     pub axis_point: Vec3,

@@ -22,6 +22,7 @@ use crate::flow::{FlowMeter, FlowSurface};
 use crate::material::{Material, PairOverride, PairTable};
 use crate::math::{DQuat, DVec3};
 use crate::shape::{Shape, Sphere};
+use crate::time_table::TimeTable;
 use crate::timestep;
 use crate::wall::Plane;
 use crate::world::{World, WorldConfig};
@@ -332,7 +333,13 @@ impl Scene {
         }
 
         let flow_meters = self.flow_meters()?;
-        let gravity = DVec3::from(spec.simulation.gravity);
+        let gravity_table = self.gravity_table()?;
+        let gravity = DVec3::from(spec.simulation.gravity());
+        // The time step allows for the fastest fall any stage of the run brings.
+        let strongest = gravity_table
+            .iter()
+            .flat_map(|t| t.knots().iter().map(|&(_, g)| g))
+            .fold(gravity, |a, g| if g.length() > a.length() { g } else { a });
         let (time_step, estimate, automatic) = self.time_step(time_step::StepInputs {
             bodies: &bodies,
             schedule: &schedule,
@@ -340,7 +347,7 @@ impl Scene {
             planes: &planes,
             mesh_walls: &mesh_walls,
             law: normal,
-            gravity,
+            gravity: strongest,
         })?;
         let world = World::new(WorldConfig {
             time_step,
@@ -361,6 +368,10 @@ impl Scene {
         .with_polyhedral_law(spec.contact.polyhedra)
         .with_mesh_walls(mesh_walls)
         .with_flow_meters(flow_meters);
+        let world = match gravity_table {
+            Some(table) => world.with_gravity_table(table),
+            None => world,
+        };
         let mut world = match &spec.domain {
             Some(d) => world.with_domain(crate::math::Aabb::new(
                 DVec3::from(d.min),
@@ -393,6 +404,28 @@ impl Scene {
                 .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
                 .collect(),
         })
+    }
+
+    /// `[simulation] gravity_table`, checked.
+    fn gravity_table(&self) -> Result<Option<TimeTable<DVec3>>, SceneError> {
+        let sim = &self.spec.simulation;
+        let Some(rows) = &sim.gravity_table else {
+            return Ok(None);
+        };
+        let key = KeyPath::table("simulation").key("gravity_table");
+        if sim.gravity.is_some() {
+            return Err(self.error(
+                key,
+                "give either `gravity` (constant) or `gravity_table`, not both",
+            ));
+        }
+        let knots = rows
+            .iter()
+            .map(|r| (r[0], DVec3::new(r[1], r[2], r[3])))
+            .collect();
+        TimeTable::new(knots)
+            .map(Some)
+            .map_err(|e| self.error(key, format!("{e} (rows are [time, gx, gy, gz])")))
     }
 
     /// The `[[output.flow_meter]]`s.

@@ -21,7 +21,7 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
             "s",
         )?;
     }
-    c.vector(sim.clone().key("gravity"), s.simulation.gravity)?;
+    c.vector(sim.clone().key("gravity"), s.simulation.gravity())?;
     if let Some(skin) = s.simulation.skin {
         c.non_negative(sim.clone().key("skin"), skin, "m")?;
     }

@@ -15,7 +15,7 @@ use crate::flow::FlowMeter;
 use crate::math::DVec3;
 use crate::shape::{Shape, Sphere};
 use crate::step::{SearchState, WallLoads};
-use crate::wall::WallState;
+use crate::wall::{MeshWall, WallPose, WallState};
 use serde::{Deserialize, Serialize};
 
 /// One entry of the world's shape table.
@@ -33,6 +33,7 @@ pub struct WorldState {
     pub steps_done: u64,
     pub time_step: f64,
     pub gravity: DVec3,
+    pub gravity_work: f64,
     pub bodies: Bodies,
     pub shapes: Vec<ShapeRecord>,
     pub dissipated: f64,
@@ -43,6 +44,8 @@ pub struct WorldState {
     pub contacts: ContactStore,
     pub wall_loads: WallLoads,
     pub wall_time: f64,
+    /// Where the mesh walls are at `wall_time` (a resumed run with a changed motion must agree).
+    pub wall_poses: Vec<WallPose>,
     pub wall_states: Vec<Option<[WallState; 2]>>,
     pub next_id: u64,
     pub search: SearchState,
@@ -56,6 +59,19 @@ pub enum RestoreError {
     UnknownShape { entry: usize },
     #[error("the checkpoint names polyhedral shape {template}, but the scene builds only {count}")]
     MissingTemplate { template: u32, count: usize },
+    #[error(
+        "mesh wall {wall} would be {distance:.3e} m away from where the run had it at \
+         t = {time:.6} s: a changed motion must agree with the old one until then (give it as a \
+         table that changes only after that time, e.g. `rpm_table = [[0, OLD], [{after}, \
+         OLD], [LATER, NEW]]`)"
+    )]
+    WallElsewhere {
+        wall: usize,
+        time: f64,
+        /// `time` rounded up to a microsecond, for the advice.
+        after: f64,
+        distance: f64,
+    },
     #[error(
         "the checkpoint has {saved} {what}, the scene {built}: the scene is not the one the \
          checkpoint was written from"
@@ -89,6 +105,7 @@ impl World {
             steps_done: self.steps_done,
             time_step: self.time_step,
             gravity: self.gravity,
+            gravity_work: self.gravity_work,
             bodies: self.bodies.clone(),
             shapes,
             dissipated: self.dissipated,
@@ -99,6 +116,7 @@ impl World {
             contacts: self.contacts.clone(),
             wall_loads: self.wall_loads.clone(),
             wall_time: self.wall_time,
+            wall_poses: self.mesh_walls.iter().map(|w| w.pose()).collect(),
             wall_states: self.wall_states.clone(),
             next_id: self.next_id,
             search: self.search.state(),
@@ -127,6 +145,7 @@ impl World {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let counts = [
+            ("mesh walls", state.wall_poses.len(), self.mesh_walls.len()),
             (
                 "flow meters",
                 state.flow_meters.len(),
@@ -151,6 +170,7 @@ impl World {
         self.steps_done = state.steps_done;
         self.time_step = state.time_step;
         self.gravity = state.gravity;
+        self.gravity_work = state.gravity_work;
         self.bodies = state.bodies;
         self.shapes = shapes;
         self.dissipated = state.dissipated;
@@ -166,9 +186,43 @@ impl World {
         self.forces_current = state.forces_current;
         // The walls' poses follow from their motion and the time.
         self.wall_time = state.wall_time;
-        for wall in &mut self.mesh_walls {
+        for (n, (wall, saved)) in self
+            .mesh_walls
+            .iter_mut()
+            .zip(&state.wall_poses)
+            .enumerate()
+        {
             wall.set_time(state.wall_time);
+            let distance = farthest_move(wall, saved, &wall.pose());
+            // A few ulps of the wall's size: the same motion written another way (a table
+            // instead of a constant) may round differently.
+            let size = wall.bounds().extent().length().max(f64::MIN_POSITIVE);
+            if distance > 1e-12 * size {
+                return Err(RestoreError::WallElsewhere {
+                    wall: n,
+                    time: state.wall_time,
+                    after: (state.wall_time * 1e6).ceil() / 1e6,
+                    distance,
+                });
+            }
         }
         Ok(())
     }
+}
+
+/// The farthest a corner of the wall's bounding box is between two poses (the most any of its
+/// points is, the distance being convex in the point).
+fn farthest_move(wall: &MeshWall, a: &WallPose, b: &WallPose) -> f64 {
+    let bounds = wall.bounds();
+    (0..8)
+        .map(|k| {
+            let pick = |bit: usize, lo: f64, hi: f64| if k & bit == 0 { lo } else { hi };
+            let corner = DVec3::new(
+                pick(1, bounds.min.x, bounds.max.x),
+                pick(2, bounds.min.y, bounds.max.y),
+                pick(4, bounds.min.z, bounds.max.z),
+            );
+            (a.to_world(corner) - b.to_world(corner)).length()
+        })
+        .fold(0.0, f64::max)
 }
