@@ -27,6 +27,8 @@ enum Command {
     Run {
         /// Scene file (TOML).
         scene: PathBuf,
+        #[command(flatten)]
+        changes: SceneChanges,
         /// Output folder [default: output/<scene name>].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -54,12 +56,39 @@ enum Command {
     Check {
         /// Scene file (TOML).
         scene: PathBuf,
+        #[command(flatten)]
+        changes: SceneChanges,
     },
     /// Measure speed; prints a Markdown table for docs/benchmarks.md.
     Bench {
         #[command(subcommand)]
         what: Bench,
     },
+}
+
+/// Scene keys set from the command line instead of the file.
+#[derive(clap::Args)]
+struct SceneChanges {
+    /// Set a scene key, e.g. `--set simulation.duration=2` or `--set material[0].friction=0.3`
+    /// (`[i]`: the i-th entry, from 0); repeatable. Checked like the file.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<polydem::scene::overrides::Override>,
+    /// The simulated duration [s] (same as `--set simulation.duration=SECONDS`).
+    #[arg(long, value_name = "SECONDS")]
+    duration: Option<f64>,
+}
+
+impl SceneChanges {
+    fn overrides(&self) -> Vec<polydem::scene::overrides::Override> {
+        let mut all = self.set.clone();
+        if let Some(d) = self.duration {
+            all.push(polydem::scene::overrides::Override {
+                key: "simulation.duration".into(),
+                value: format!("{d:?}"),
+            });
+        }
+        all
+    }
 }
 
 #[derive(Subcommand)]
@@ -129,9 +158,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run {
             scene,
+            changes,
             out,
             threads,
-        } => run(&scene, out, threads),
+        } => run(&scene, &changes, out, threads),
         Command::Resume {
             dir,
             scene,
@@ -145,7 +175,7 @@ fn main() -> ExitCode {
                 duration,
             },
         ),
-        Command::Check { scene } => check(&scene),
+        Command::Check { scene, changes } => check(&scene, &changes),
         Command::Bench {
             what:
                 Bench::BroadPhase {
@@ -188,16 +218,25 @@ fn main() -> ExitCode {
 /// Exit code of a run stopped by SIGINT or SIGTERM, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
 
-fn load(scene: &Path, threads: Option<usize>) -> Result<Scene, String> {
-    let mut scene = Scene::load(scene).map_err(|e| e.to_string())?;
+fn load(scene: &Path, changes: &SceneChanges, threads: Option<usize>) -> Result<Scene, String> {
+    let overrides = changes.overrides();
+    // A message about a key set on the command line should say so.
+    let note = |e: polydem::scene::SceneError| {
+        let set: Vec<String> = overrides.iter().map(|o| o.to_string()).collect();
+        if set.is_empty() || matches!(e, polydem::scene::SceneError::Override { .. }) {
+            e.to_string()
+        } else {
+            format!(
+                "{e}\n(the scene as changed by --set {})",
+                set.join(" --set ")
+            )
+        }
+    };
+    let mut scene = Scene::load_with(scene, &overrides).map_err(note)?;
     if let Some(threads) = threads {
         scene.spec.simulation.threads = threads;
     }
     Ok(scene)
-}
-
-fn prepare(scene: &Path, threads: Option<usize>) -> Result<Prepared, String> {
-    load(scene, threads)?.build().map_err(|e| e.to_string())
 }
 
 fn describe(scene: &Path, p: &Prepared) {
@@ -233,17 +272,24 @@ fn describe(scene: &Path, p: &Prepared) {
     }
 }
 
-fn check(scene: &Path) -> Result<(), String> {
-    let prepared = prepare(scene, None)?;
+fn check(scene: &Path, changes: &SceneChanges) -> Result<(), String> {
+    let prepared = load(scene, changes, None)?
+        .build()
+        .map_err(|e| e.to_string())?;
     describe(scene, &prepared);
     println!("scene is valid");
     Ok(())
 }
 
-fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(), String> {
+fn run(
+    scene: &Path,
+    changes: &SceneChanges,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<(), String> {
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
-    let loaded = load(scene, threads)?;
+    let loaded = load(scene, changes, threads)?;
     let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone());
     let mut prepared = loaded.build().map_err(|e| e.to_string())?;
     let out = out.unwrap_or_else(|| {

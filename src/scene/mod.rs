@@ -9,6 +9,7 @@
 mod error;
 pub mod format;
 pub mod insert;
+pub mod overrides;
 pub mod shapes;
 mod time_step;
 mod validate;
@@ -204,9 +205,19 @@ fn plane_obstacles(planes: &[Plane]) -> Vec<insert::PlaneObstacle> {
 impl Scene {
     /// Reads and parses a scene file.
     pub fn load(file: &Path) -> Result<Self, SceneError> {
+        Self::load_with(file, &[])
+    }
+
+    /// Reads a scene file with some of its keys set otherwise (see [`overrides`]); the scene's
+    /// `source` is then the edited text, which is what checkpoints store.
+    pub fn load_with(file: &Path, set: &[overrides::Override]) -> Result<Self, SceneError> {
         let source = std::fs::read_to_string(file).map_err(|source| SceneError::Read {
             file: file.to_path_buf(),
             source,
+        })?;
+        let source = overrides::apply(&source, set).map_err(|message| SceneError::Override {
+            file: file.to_path_buf(),
+            message,
         })?;
         Self::parse(file, source)
     }
