@@ -356,6 +356,16 @@ fn with_progress<T>(
         ProgressStyle::with_template("{bar:30} {percent:>3}% t = {msg} | {per_sec} | ETA {eta}")
             .expect("the template is valid"),
     );
+    // indicatif draws nothing when stderr is not a terminal (a log file, CI): say it plainly then.
+    let say = |line: String| {
+        if bar.is_hidden() {
+            eprintln!("{line}")
+        } else {
+            bar.println(line)
+        }
+    };
+    // A flood feed falls short at every insertion: say why once per [[insert]].
+    let mut short_before = std::collections::BTreeSet::new();
     let mut observe = |event: RunEvent| match event {
         RunEvent::Start { from, to } => {
             first_step = from;
@@ -375,12 +385,15 @@ fn with_progress<T>(
                 r.inserted
             );
             match &r.shortfall {
-                Some(why) => bar.println(format!("{line}; not all fitted: {why}")),
-                None => bar.println(line),
+                Some(why) if short_before.insert(r.index) => say(format!(
+                    "{line}; not all fitted: {why} (said once; later shortfalls of this \
+                     [[insert]] show only their count)"
+                )),
+                _ => say(line),
             }
         }
-        RunEvent::Checkpoint(path) => bar.println(format!("checkpoint   {}", path.display())),
-        RunEvent::Note(note) => bar.println(format!("note         {note}")),
+        RunEvent::Checkpoint(path) => say(format!("checkpoint   {}", path.display())),
+        RunEvent::Note(note) => say(format!("note         {note}")),
     };
     let result = go(&mut observe);
     bar.finish_and_clear();
