@@ -457,3 +457,51 @@ fn a_wall_may_change_speed_from_the_checkpoint_on() {
     let message = resume(&out2, &options).err().unwrap().to_string();
     assert!(message.contains("mesh wall 0 would be"), "{message}");
 }
+
+/// The scene file edited after the run started: `resume` says what changed and how to go on,
+/// rather than silently continuing with either version. A run started with `--set` overrides
+/// is compared with its file plus the overrides.
+#[test]
+fn an_edited_scene_file_is_noticed_on_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let edited = SPHERES.replace("restitution = 0.5", "restitution = 0.6");
+    // Started with --set material[0].friction=0.4 on the file as it was.
+    let file = dir.path().join("scene.toml");
+    std::fs::write(&file, SPHERES).unwrap();
+    let set: Vec<polydem::scene::overrides::Override> =
+        vec!["material[0].friction=0.4".parse().unwrap()];
+    let scene = Scene::load_with(&file, &set).unwrap();
+    let record =
+        checkpoint::SceneRecord::new(file.clone(), scene.source.clone()).with_overrides(&set);
+    let mut prepared = scene.build().unwrap();
+    let control = Control {
+        scene: Some(record),
+        stop: None,
+    };
+    run::run_with(&mut prepared, &out, control, |_| {}).unwrap();
+    let longer = ResumeOptions {
+        duration: Some(0.14),
+        ..ResumeOptions::default()
+    };
+    // Unchanged file: the overrides are taken into account, nothing to say.
+    let (resumed, notes) = resume(&out, &longer).unwrap();
+    assert!(notes.is_empty(), "{notes:?}");
+    assert_eq!(resumed.world.pair_laws().get(0, 0).friction, 0.4);
+
+    std::fs::write(&file, &edited).unwrap();
+    let message = resume(&out, &longer).err().unwrap().to_string();
+    for expected in [
+        "has changed",
+        "material[0].restitution",
+        "--scene",
+        "--stored-scene",
+    ] {
+        assert!(message.contains(expected), "{message}");
+    }
+    let as_started = ResumeOptions {
+        stored_scene: true,
+        ..longer.clone()
+    };
+    assert!(resume(&out, &as_started).is_ok());
+}

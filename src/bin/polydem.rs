@@ -48,6 +48,9 @@ enum Command {
         /// A new end time [s], e.g. to run a finished run further.
         #[arg(long)]
         duration: Option<f64>,
+        /// Continue with the scene stored in the checkpoint even if its file has changed since.
+        #[arg(long, conflicts_with = "scene")]
+        stored_scene: bool,
         /// Worker threads (0: one per core); results do not depend on them.
         #[arg(long)]
         threads: Option<usize>,
@@ -166,6 +169,7 @@ fn main() -> ExitCode {
             dir,
             scene,
             duration,
+            stored_scene,
             threads,
         } => resume(
             &dir,
@@ -173,6 +177,7 @@ fn main() -> ExitCode {
                 scene,
                 threads,
                 duration,
+                stored_scene,
             },
         ),
         Command::Check { scene, changes } => check(&scene, &changes),
@@ -290,7 +295,8 @@ fn run(
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
     let loaded = load(scene, changes, threads)?;
-    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone());
+    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone())
+        .with_overrides(&changes.overrides());
     let mut prepared = loaded.build().map_err(|e| e.to_string())?;
     let out = out.unwrap_or_else(|| {
         let stem = scene.file_stem().unwrap_or_default();

@@ -39,17 +39,34 @@ pub struct Checkpoint {
 /// The scene a run was started from.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SceneRecord {
-    /// The scene file as given (files it names are found relative to its folder).
+    /// The scene file, as an absolute path where it can be found (files it names are found
+    /// relative to its folder, whatever folder `resume` is called from).
     pub file: PathBuf,
+    /// The text the run was built from: the file's, with `overrides` applied.
     pub text: String,
     /// [`fnv1a`] of `text`.
     pub hash: u64,
+    /// The command line's `--set KEY=VALUE`s (a resumed run applies them to a new scene file too).
+    #[serde(default)]
+    pub overrides: Vec<String>,
 }
 
 impl SceneRecord {
     pub fn new(file: PathBuf, text: String) -> Self {
         let hash = fnv1a(text.as_bytes());
-        Self { file, text, hash }
+        let file = std::fs::canonicalize(&file).unwrap_or(file);
+        Self {
+            file,
+            text,
+            hash,
+            overrides: Vec::new(),
+        }
+    }
+
+    /// The record of a scene changed by these command-line overrides.
+    pub fn with_overrides(mut self, overrides: &[impl ToString]) -> Self {
+        self.overrides = overrides.iter().map(ToString::to_string).collect();
+        self
     }
 }
 

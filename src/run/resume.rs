@@ -6,6 +6,7 @@
 use super::{templates, Control, RunError, RunEvent, Session};
 use crate::checkpoint::{self, SceneRecord, ALLOWED_CHANGES};
 use crate::io::output::RunOutput;
+use crate::scene::overrides::{self, Override};
 use crate::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 
@@ -19,6 +20,8 @@ pub struct ResumeOptions {
     pub threads: Option<usize>,
     /// A new end time [s] (`simulation.duration`), to run a finished run further, say.
     pub duration: Option<f64>,
+    /// Continue with the scene stored in the checkpoint even if its file has changed since.
+    pub stored_scene: bool,
 }
 
 /// Continues the run in `out_dir` from its newest readable checkpoint to its end, as
@@ -39,7 +42,7 @@ pub fn resume(
         )));
     }
     let saved = latest.checkpoint;
-    let record = scene_to_continue_with(&saved.scene, options)?;
+    let record = scene_to_continue_with(&saved.scene, options, &mut observe)?;
     let mut scene = Scene::parse(&record.file, record.text.clone())
         .map_err(|e| RunError::Resume(e.to_string()))?;
     if let Some(threads) = options.threads {
@@ -91,33 +94,71 @@ pub fn resume(
     Ok((prepared, output))
 }
 
-/// The scene stored in the checkpoint, or the new one if it differs only where allowed.
+/// The scene to continue with: the one stored in the checkpoint, unless the file it came from has
+/// changed since (then the user must say which: `scene` for the changed file, which may differ
+/// only where allowed, or `stored_scene`), or another file is asked for. The run's command-line
+/// overrides apply to a new file as they did to the old one.
 fn scene_to_continue_with(
     saved: &SceneRecord,
     options: &ResumeOptions,
+    observe: &mut impl FnMut(RunEvent),
 ) -> Result<SceneRecord, RunError> {
-    let Some(file) = &options.scene else {
-        return Ok(saved.clone());
+    let overrides: Vec<Override> = saved
+        .overrides
+        .iter()
+        .filter_map(|o| o.parse().ok())
+        .collect();
+    let read = |file: &Path| -> Result<String, String> {
+        let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
+        overrides::apply(&text, &overrides)
     };
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| RunError::Resume(format!("cannot read '{}': {e}", file.display())))?;
+    let Some(file) = &options.scene else {
+        if options.stored_scene {
+            return Ok(saved.clone());
+        }
+        let now = match read(&saved.file) {
+            Ok(now) => now,
+            Err(e) => {
+                observe(RunEvent::Note(format!(
+                    "cannot read the scene file '{}' ({e}): continuing with the scene stored in \
+                     the checkpoint",
+                    saved.file.display()
+                )));
+                return Ok(saved.clone());
+            }
+        };
+        let changed = checkpoint::changed_keys(&saved.text, &now).unwrap_or_default();
+        if changed.is_empty() {
+            return Ok(saved.clone());
+        }
+        return Err(RunError::Resume(format!(
+            "'{}' has changed since the run was started (in {}). To continue with the changed \
+             file: `polydem resume DIR --scene {}` (only {} may change); to continue as the run \
+             was started: `polydem resume DIR --stored-scene`",
+            saved.file.display(),
+            changed.join(", "),
+            saved.file.display(),
+            ALLOWED_CHANGES.join(", ")
+        )));
+    };
+    let text = read(file).map_err(|e| RunError::Resume(format!("'{}': {e}", file.display())))?;
     let changed = checkpoint::changed_keys(&saved.text, &text)
         .map_err(|e| RunError::Resume(format!("'{}': {e}", file.display())))?;
-    let refused: Vec<&String> = changed
+    let refused: Vec<&str> = changed
         .iter()
         .filter(|k| !checkpoint::change_allowed(k))
+        .map(String::as_str)
         .collect();
     if !refused.is_empty() {
-        let list: Vec<&str> = refused.iter().map(|k| k.as_str()).collect();
         return Err(RunError::Resume(format!(
             "'{}' differs from the scene the run was started with ('{}') in {}: a resumed run \
              continues from bodies and contacts computed with the old values, so only {} may \
              change (`[]`: any index). Start a new run for the other changes",
             file.display(),
             saved.file.display(),
-            list.join(", "),
+            refused.join(", "),
             ALLOWED_CHANGES.join(", ")
         )));
     }
-    Ok(SceneRecord::new(file.clone(), text))
+    Ok(SceneRecord::new(file.clone(), text).with_overrides(&saved.overrides))
 }
