@@ -155,8 +155,16 @@ pub fn run_with(
     prepared: &mut Prepared,
     out_dir: &Path,
     control: Control,
-    observe: impl FnMut(RunEvent),
+    mut observe: impl FnMut(RunEvent),
 ) -> Result<RunOutput, RunError> {
+    let cleared = crate::io::output::clear_previous_run(out_dir)?;
+    if cleared > 0 {
+        observe(RunEvent::Note(format!(
+            "removed {cleared} files of an earlier run in '{}' (its frames, series and \
+             checkpoints)",
+            out_dir.display()
+        )));
+    }
     let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output)?;
     output.write(&prepared.world)?;
     let templates = templates(prepared);

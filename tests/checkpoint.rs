@@ -532,3 +532,32 @@ fn an_edited_scene_file_is_noticed_on_resume() {
     };
     assert!(resume(&out, &as_started).is_ok());
 }
+
+/// A run into a folder an earlier run used removes that run's frames, series and checkpoints
+/// (ParaView would show the old frames, `resume` would take the old checkpoint for the new run's)
+/// and nothing else.
+#[test]
+fn a_new_run_in_a_used_folder_leaves_nothing_of_the_old_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let longer = SPHERES.replace("duration = 0.12", "duration = 0.16");
+    run_scene(dir.path(), &longer, &out, None);
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    std::fs::write(out.join(".particles_000099.vtp.tmp-1-2"), "killed").unwrap();
+    assert!(out.join("particles_000008.vtp").exists());
+
+    let shorter = SPHERES.replace("duration = 0.12", "duration = 0.04");
+    let p = run_scene(dir.path(), &shorter, &out, None);
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let frames = names.iter().filter(|n| n.starts_with("particles_")).count();
+    assert_eq!(frames, 3, "{names:?}");
+    assert!(names.contains(&"notes.txt".to_string()), "{names:?}");
+    assert!(!names.iter().any(|n| n.contains(".tmp-")), "{names:?}");
+    let kept = checkpoint::checkpoints_in(&out);
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    assert_eq!(kept[0].0, p.world.steps_done());
+}

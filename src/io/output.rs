@@ -252,6 +252,51 @@ impl RunOutput {
     }
 }
 
+/// Removes what an earlier run left in `dir`: its series (`.pvd`, numbered `.vtp` frames, the
+/// CSV files), its checkpoints, and temporaries of writes that were killed. A new run into a
+/// used folder must not leave frames of the old one beside its own (ParaView would show them),
+/// nor checkpoints that `resume` would take for its own. Other files are left alone. Returns how
+/// many files were removed.
+pub fn clear_previous_run(dir: &Path) -> io::Result<usize> {
+    let ours = |name: &str| {
+        let series = ["particles", "walls", "polyhedra", "contacts"];
+        let frame = |s: &str| {
+            name.strip_prefix(s)
+                .and_then(|r| r.strip_prefix('_'))
+                .and_then(|r| r.strip_suffix(".vtp"))
+                .is_some_and(|n| n.len() == 6 && n.bytes().all(|b| b.is_ascii_digit()))
+        };
+        let temporary = name.starts_with('.') && name.contains(".tmp-");
+        series
+            .iter()
+            .any(|s| frame(s) || name == format!("{s}.pvd"))
+            || ["energy.csv", "wall_forces.csv", "flow.csv"].contains(&name)
+            || temporary
+    };
+    let checkpoint = |name: &str| {
+        (name.starts_with("step_") && name.ends_with(".ckpt"))
+            || (name.starts_with(".step_") && name.contains(".ckpt.tmp-"))
+    };
+    let mut removed = 0;
+    for (folder, keep) in [
+        (dir.to_path_buf(), &ours as &dyn Fn(&str) -> bool),
+        (dir.join("checkpoints"), &checkpoint),
+    ] {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries {
+            let entry = entry?;
+            let name = entry.file_name();
+            if entry.file_type()?.is_file() && name.to_str().is_some_and(keep) {
+                std::fs::remove_file(entry.path())?;
+                removed += 1;
+            }
+        }
+    }
+    Ok(removed)
+}
+
 /// Cumulative (impulse, angular impulse) of every wall, zero where no contact has happened yet.
 fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
     let walls = world.planes().len() + world.mesh_walls().len();
