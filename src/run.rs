@@ -5,6 +5,7 @@
 use crate::checkpoint::{
     self, Checkpoint, CheckpointError, RunProgress, SceneRecord, ScheduleRecord,
 };
+use crate::io::body_values::ShapeNames;
 use crate::io::output::RunOutput;
 use crate::scene::{InsertionReport, Prepared};
 use crate::shape::Shape;
@@ -165,7 +166,8 @@ pub fn run_with(
             out_dir.display()
         )));
     }
-    let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output)?;
+    let names = ShapeNames::new(prepared.shape_names.clone());
+    let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output, names)?;
     output.write(&prepared.world)?;
     let templates = templates(prepared);
     let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);

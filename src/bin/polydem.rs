@@ -1,15 +1,16 @@
 //! The `polydem` command: run or check a scene file.
 
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polydem::checkpoint::SceneRecord;
-use polydem::run::{Control, ResumeOptions, RunError, RunEvent};
+use polydem::run::{Control, ResumeOptions, RunError};
 use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+#[path = "polydem/progress.rs"]
+mod progress;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
 
 #[derive(Parser)]
 #[command(
@@ -308,12 +309,11 @@ fn run(
         scene: Some(record),
         stop: Some(stop_on_signal()),
     };
-    let start = Instant::now();
-    let result = with_progress(|observe| {
+    let result = progress::show(|observe| {
         polydem::run::run_with(&mut prepared, &out, control, observe).map(|_| ())
     });
-    let first_step = result.map_err(|e| run_error(e, scene, &out))?.1;
-    report_end(&prepared, start, first_step);
+    let (_, summary) = result.map_err(|e| run_error(e, scene, &out))?;
+    summary.report(&prepared);
     Ok(())
 }
 
@@ -322,12 +322,11 @@ fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
         scene: None,
         stop: Some(stop_on_signal()),
     };
-    let start = Instant::now();
-    let result = with_progress(|observe| {
+    let result = progress::show(|observe| {
         polydem::run::resume(dir, &options, control, observe).map(|(prepared, _)| prepared)
     });
-    let (prepared, first_step) = result.map_err(|e| run_error(e, dir, dir))?;
-    report_end(&prepared, start, first_step);
+    let (prepared, summary) = result.map_err(|e| run_error(e, dir, dir))?;
+    summary.report(&prepared);
     Ok(())
 }
 
@@ -351,61 +350,6 @@ fn stop_on_signal() -> Arc<AtomicBool> {
     stop
 }
 
-/// Runs `go` with a progress bar on stderr, fed by the run's events; returns its result and the
-/// step the run started from.
-fn with_progress<T>(
-    go: impl FnOnce(&mut dyn FnMut(RunEvent)) -> Result<T, RunError>,
-) -> Result<(T, u64), RunError> {
-    let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
-    let mut first_step = 0;
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {percent:>3}% t = {msg} | {per_sec} | ETA {eta}")
-            .expect("the template is valid"),
-    );
-    // indicatif draws nothing when stderr is not a terminal (a log file, CI): say it plainly then.
-    let say = |line: String| {
-        if bar.is_hidden() {
-            eprintln!("{line}")
-        } else {
-            bar.println(line)
-        }
-    };
-    // A flood feed falls short at every insertion: say why once per [[insert]].
-    let mut short_before = std::collections::BTreeSet::new();
-    let mut observe = |event: RunEvent| match event {
-        RunEvent::Start { from, to } => {
-            first_step = from;
-            bar.set_length(to);
-            bar.set_position(from);
-            bar.reset_eta();
-        }
-        RunEvent::Progress(w) => {
-            bar.set_position(w.steps_done());
-            bar.set_message(format!("{:.4} s", w.time()));
-        }
-        RunEvent::Inserted(r) => {
-            let line = format!(
-                "t = {:.4} s: [[insert]] #{} added {} bodies",
-                r.time,
-                r.index + 1,
-                r.inserted
-            );
-            match &r.shortfall {
-                Some(why) if short_before.insert(r.index) => say(format!(
-                    "{line}; not all fitted: {why} (said once; later shortfalls of this \
-                     [[insert]] show only their count)"
-                )),
-                _ => say(line),
-            }
-        }
-        RunEvent::Checkpoint(path) => say(format!("checkpoint   {}", path.display())),
-        RunEvent::Note(note) => say(format!("note         {note}")),
-    };
-    let result = go(&mut observe);
-    bar.finish_and_clear();
-    result.map(|r| (r, first_step))
-}
-
 /// The message of a run that failed; a run that was stopped by a signal ends the process here,
 /// with its own exit code, after saying how to continue it.
 fn run_error(e: RunError, scene: &Path, out: &Path) -> String {
@@ -417,23 +361,6 @@ fn run_error(e: RunError, scene: &Path, out: &Path) -> String {
             std::process::exit(EXIT_INTERRUPTED.into());
         }
         e => format!("{}: {e}", scene.display()),
-    }
-}
-
-fn report_end(prepared: &Prepared, start: Instant, first_step: u64) {
-    let seconds = start.elapsed().as_secs_f64();
-    let w = &prepared.world;
-    let steps = w.steps_done() - first_step;
-    println!(
-        "done         {steps} steps in {seconds:.2} s: {:.3e} particle-steps/s (t = {:.6} s)",
-        (steps as f64 * w.bodies().len() as f64) / seconds.max(1e-9),
-        w.time()
-    );
-    if w.bodies_removed() > 0 {
-        println!(
-            "             {} bodies left the domain and were removed",
-            w.bodies_removed()
-        );
     }
 }
 

@@ -9,6 +9,7 @@
 //! reason; output intervals are coarse, so the quadratic cost is negligible.
 
 pub mod atomic;
+pub mod body_values;
 pub mod csv;
 pub mod mesh;
 pub mod output;
@@ -16,7 +17,10 @@ pub mod vtk;
 
 pub use atomic::{write_atomic, write_atomic_bytes};
 pub use csv::CsvSeries;
-pub use vtk::{write_particles, write_polygons, ParticleFrame, PolygonMesh, PvdSeries};
+pub use vtk::{
+    write_body_surfaces, write_particles, write_polygons, BodyFields, ParticleFrame, PolygonMesh,
+    PvdSeries,
+};
 
 /// Formats `x` so that `str::parse::<f64>` gives back exactly `x`.
 ///

@@ -1,11 +1,14 @@
 //! The files a run writes: a VTK time series for ParaView and a CSV energy time series.
 //!
 //! Layout of the output folder:
-//! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data;
+//! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data (`BodyFields`:
+//!   velocity, speed, angular velocity, contact force and torque, coordination number, walls
+//!   touching, material, shape);
+//! - `legend.csv`: the names of the material and shape numbers;
 //! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
 //! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
-//!   pose (the triangles of a non-convex one), with the body's `id` per face (only when the
-//!   scene has polyhedra);
+//!   pose (the triangles of a non-convex one), with the body's `id` and fields per face (when the
+//!   scene has polyhedral shapes: from the first frame on, empty until the first one arrives);
 //! - `contacts.pvd` → `contacts_NNNNNN.vtp`: the force network, one line per contact with its
 //!   forces (only when asked for); a pair touching in several regions has one line per region,
 //!   bent at the region's contact point;
@@ -19,8 +22,12 @@
 //!
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
+use super::body_values::{BodyValues, FaceValues, ShapeNames};
 use super::vtk::{write_force_network, ForceNetwork};
-use super::{write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh, PvdSeries};
+use super::{
+    write_body_surfaces, write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh,
+    PvdSeries,
+};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::world::World;
@@ -70,15 +77,32 @@ pub struct RunOutput {
     last_impulse: Vec<(DVec3, DVec3)>,
     last_flow_mass: Vec<f64>,
     frame: usize,
+    /// Whether frames include `polyhedra_NNNNNN.vtp` (the scene has polyhedral shapes).
+    polyhedra_series: bool,
+    /// The names of shape numbers (set again by a resumed run: shapes are not stored).
+    #[serde(skip)]
+    names: ShapeNames,
     /// Where and how large to draw the infinite plane walls, fixed at the start.
     wall_centre: DVec3,
     wall_half_size: f64,
 }
 
 impl RunOutput {
-    /// Creates the output folder (and its parents) for a run of `world`.
-    pub fn create(dir: &Path, world: &World, options: &OutputOptions) -> io::Result<Self> {
+    /// Creates the output folder (and its parents) for a run of `world` whose named shapes are
+    /// `names`, and writes `legend.csv` there.
+    pub fn create(
+        dir: &Path,
+        world: &World,
+        options: &OutputOptions,
+        names: ShapeNames,
+    ) -> io::Result<Self> {
         std::fs::create_dir_all(dir)?;
+        write_legend(&dir.join("legend.csv"), world, &names)?;
+        let polyhedra_series = names.has_polyhedra()
+            || world
+                .shapes()
+                .iter()
+                .any(|s| !matches!(s, Shape::Sphere(_)));
         let mut columns = ENERGY_COLUMNS.to_vec();
         if options.packing_region.is_some() {
             columns.push("packing_fraction");
@@ -102,6 +126,8 @@ impl RunOutput {
             last_impulse: wall_impulses(world),
             last_flow_mass: world.flow_meters().iter().map(|m| m.mass).collect(),
             frame: 0,
+            polyhedra_series,
+            names,
             wall_centre: 0.5 * (bounds.min + bounds.max),
             wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
         })
@@ -109,6 +135,12 @@ impl RunOutput {
 
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// The names of shape numbers, for a run resumed from a checkpoint (which does not store
+    /// shapes).
+    pub fn set_shape_names(&mut self, names: ShapeNames) {
+        self.names = names;
     }
 
     /// Makes the series write into `dir` (a resumed run's output folder, which may have moved
@@ -131,6 +163,8 @@ impl RunOutput {
     /// Writes one frame of every series.
     pub fn write(&mut self, world: &World) -> io::Result<()> {
         let b = world.bodies();
+        let values = BodyValues::of(world, &self.names);
+        let fields = values.fields(world);
         let name = format!("particles_{:06}.vtp", self.frame);
         write_particles(
             &self.dir.join(&name),
@@ -138,10 +172,8 @@ impl RunOutput {
                 ids: &b.id,
                 positions: &b.position,
                 radii: &b.bounding_radius,
-                velocities: &b.velocity,
-                angular_velocities: &b.angular_velocity,
-                materials: &b.material,
                 orientations: &b.orientation,
+                fields,
             },
             world.time(),
         )?;
@@ -156,18 +188,11 @@ impl RunOutput {
         )?;
         self.walls.add(world.time(), &name, 0)?;
 
-        if world
-            .shapes()
-            .iter()
-            .any(|s| matches!(s, Shape::Convex(_) | Shape::NonConvex(_)))
-        {
+        if self.polyhedra_series {
             let name = format!("polyhedra_{:06}.vtp", self.frame);
-            write_polygons(
-                &self.dir.join(&name),
-                &polyhedra_mesh(world),
-                "id",
-                world.time(),
-            )?;
+            let (mesh, of_body) = polyhedra_mesh(world);
+            let faces = FaceValues::gather(&fields, &of_body);
+            write_body_surfaces(&self.dir.join(&name), &mesh, &faces.fields(), world.time())?;
             self.polyhedra.add(world.time(), &name, 0)?;
         }
 
@@ -270,7 +295,7 @@ pub fn clear_previous_run(dir: &Path) -> io::Result<usize> {
         series
             .iter()
             .any(|s| frame(s) || name == format!("{s}.pvd"))
-            || ["energy.csv", "wall_forces.csv", "flow.csv"].contains(&name)
+            || ["energy.csv", "wall_forces.csv", "flow.csv", "legend.csv"].contains(&name)
             || temporary
     };
     let checkpoint = |name: &str| {
@@ -340,10 +365,11 @@ fn flow_columns(world: &World) -> Vec<String> {
     columns
 }
 
-/// Faces of every polyhedral body, in world coordinates.
-fn polyhedra_mesh(world: &World) -> PolygonMesh {
+/// Faces of every polyhedral body, in world coordinates, and each face's body.
+fn polyhedra_mesh(world: &World) -> (PolygonMesh, Vec<usize>) {
     let b = world.bodies();
     let mut mesh = PolygonMesh::default();
+    let mut of_body = Vec::new();
     for i in 0..b.len() {
         let first = mesh.vertices.len() as u32;
         let place = |v: &DVec3| b.position[i] + b.orientation[i] * *v;
@@ -355,6 +381,7 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
                     mesh.polygons
                         .push(face.vertices.iter().map(|&v| first + v as u32).collect());
                     mesh.cell_ids.push(b.id[i] as u32);
+                    of_body.push(i);
                 }
             }
             Shape::NonConvex(p) => {
@@ -363,11 +390,35 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
                     mesh.polygons
                         .push(t.iter().map(|&v| first + v as u32).collect());
                     mesh.cell_ids.push(b.id[i] as u32);
+                    of_body.push(i);
                 }
             }
         }
     }
-    mesh
+    (mesh, of_body)
+}
+
+/// `legend.csv`: what the `material` and `shape` numbers of the VTK files stand for.
+fn write_legend(path: &Path, world: &World, names: &ShapeNames) -> io::Result<()> {
+    super::write_atomic(path, |w| {
+        writeln!(w, "kind,number,name")?;
+        for (k, m) in world.materials().iter().enumerate() {
+            writeln!(w, "material,{k},{}", csv_field(&m.name))?;
+        }
+        for (k, name) in names.names().enumerate() {
+            writeln!(w, "shape,{k},{}", csv_field(name))?;
+        }
+        Ok(())
+    })
+}
+
+/// A name as one CSV field (quoted when it holds a comma, quote or line break).
+fn csv_field(name: &str) -> String {
+    if name.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", name.replace('"', "\"\""))
+    } else {
+        name.to_string()
+    }
 }
 
 /// One line per contact: body centre to body centre, or body centre to the contact point on a

@@ -5,6 +5,7 @@
 
 use super::{templates, Control, RunError, RunEvent, Session};
 use crate::checkpoint::{self, SceneRecord, ALLOWED_CHANGES};
+use crate::io::body_values::ShapeNames;
 use crate::io::output::RunOutput;
 use crate::scene::overrides::{self, Override};
 use crate::scene::{Prepared, Scene};
@@ -79,6 +80,7 @@ pub fn resume(
     }
     let mut output = saved.progress.output;
     output.relocate(out_dir);
+    output.set_shape_names(ShapeNames::new(prepared.shape_names.clone()));
     let mut session = Session {
         prepared: &mut prepared,
         output,

@@ -58,6 +58,8 @@ pub struct Prepared {
     /// What building the scene repaired or decided that the user should know (welded mesh
     /// vertices, turned triangles).
     pub notes: Vec<String>,
+    /// The scene's `[shape.NAME]`s, by name (for the outputs' `shape` numbers).
+    pub shape_names: Vec<(String, Shape)>,
 }
 
 /// An `[[insert]]` that happens during the run, once or repeatedly.
@@ -413,6 +415,10 @@ impl Scene {
             notes: shapes
                 .iter()
                 .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
+                .collect(),
+            shape_names: shapes
+                .iter()
+                .map(|(name, b)| (name.clone(), b.shape.clone()))
                 .collect(),
         })
     }

@@ -276,13 +276,21 @@ fn check_insertion_size(
     r_max: f64,
 ) -> Result<(), SceneError> {
     let key = |k: &str| KeyPath::entry("insert", n).key(k);
+    // Shapes are placed by their bounding spheres.
+    let (one, many) = match &i.shape {
+        Some(name) => (
+            format!("'{name}' body of bounding radius"),
+            format!("'{name}' bodies of bounding radius"),
+        ),
+        None => ("sphere of radius".into(), "spheres of radius".into()),
+    };
     let extent: Vec<f64> = (0..3).map(|a| i.region_max[a] - i.region_min[a]).collect();
     if extent.iter().any(|&e| e < 2.0 * r_max) {
         return Err(c.scene.error(
             key("region_max"),
             format!(
-                "the region {extent:?} m is narrower than one sphere of radius {r_max} m on some \
-                 axis: enlarge the region or use smaller spheres"
+                "the region {extent:?} m is narrower than one {one} {r_max} m on some axis: \
+                 enlarge the region or use smaller bodies"
             ),
         ));
     }
@@ -295,9 +303,9 @@ fn check_insertion_size(
                 return Err(c.scene.error(
                     key("count"),
                     format!(
-                        "{count} spheres of radius ≥ {r_min} m take at least {needed:.3e} m³, more \
-                         than fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
-                         enlarge the region or ask for fewer spheres"
+                        "{count} {many} ≥ {r_min} m take at least {needed:.3e} m³, more than \
+                         fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
+                         enlarge the region or ask for fewer"
                     ),
                 ));
             }
