@@ -197,9 +197,11 @@ impl Session<'_> {
         // resumed run's first) is done.
         let schedule =
             |interval: f64| move |k: u64| ((k as f64 * interval / dt).round() as u64).max(k);
-        let output_step = schedule(self.prepared.output_interval);
-        let mut next_output =
-            output_step(first_after(self.prepared.world.steps_done(), output_step));
+        let first = self.prepared.world.steps_done();
+        let frame_step = schedule(self.prepared.output_interval);
+        let mut next_frame = frame_step(first_after(first, frame_step));
+        let row_step = schedule(self.prepared.csv_interval);
+        let mut next_row = row_step(first_after(first, row_step));
         let checkpoint_step = self
             .prepared
             .checkpoint_interval
@@ -213,7 +215,11 @@ impl Session<'_> {
                 .prepared
                 .next_insertion_time()
                 .map(|t| (t / dt).round() as u64);
-            let until = next_output.min(total_steps).min(next_checkpoint).min(
+            let until = (next_frame
+                .min(next_row)
+                .min(total_steps)
+                .min(next_checkpoint))
+            .min(
                 next_insertion
                     .unwrap_or(u64::MAX)
                     .max(self.prepared.world.steps_done() + 1),
@@ -238,9 +244,13 @@ impl Session<'_> {
                     observe(RunEvent::Inserted(&report));
                 }
             }
-            if done == next_output || done == total_steps {
-                self.output.write(&self.prepared.world)?;
-                next_output = output_step(first_after(done, output_step));
+            if done == next_frame || done == total_steps {
+                self.output.write_frame(&self.prepared.world)?;
+                next_frame = frame_step(first_after(done, frame_step));
+            }
+            if done == next_row || done == total_steps {
+                self.output.write_rows(&self.prepared.world)?;
+                next_row = row_step(first_after(done, row_step));
             }
             if stopped {
                 let checkpoint = self.checkpoint(&mut observe)?;

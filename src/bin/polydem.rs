@@ -268,10 +268,17 @@ fn describe(scene: &Path, p: &Prepared) {
     };
     println!("time step    {:.4e} s ({how})", w.time_step());
     println!("             estimate: {}", p.estimate.reason);
-    println!(
-        "duration     {} s = {steps} steps, output every {} s",
-        p.duration, p.output_interval
-    );
+    if p.output_interval == p.csv_interval {
+        println!(
+            "duration     {} s = {steps} steps, output every {} s",
+            p.duration, p.output_interval
+        );
+    } else {
+        println!(
+            "duration     {} s = {steps} steps, VTK frames every {} s, CSV rows every {} s",
+            p.duration, p.output_interval, p.csv_interval
+        );
+    }
     println!("threads      {}", w.threads());
     for note in &p.notes {
         println!("note         {note}");

@@ -12,6 +12,8 @@ pub const ALLOWED_CHANGES: &[&str] = &[
     "simulation.output_interval",
     "simulation.threads",
     "output.checkpoint_interval",
+    "output.vtk_interval",
+    "output.csv_interval",
     "mesh_wall[].motion",
 ];
 

@@ -4,9 +4,9 @@
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
 //! full disk in the middle of a long run never leaves a truncated file behind:
-//! a reader sees either the previous complete version or the new one. Series
-//! files (`.pvd`, `.csv`) are rewritten whole on every update for the same
-//! reason; output intervals are coarse, so the quadratic cost is negligible.
+//! a reader sees either the previous complete version or the new one. A `.pvd`
+//! series is rewritten whole on every frame for the same reason (it is small);
+//! CSV series grow by whole lines appended and synced (see `csv`).
 
 pub mod atomic;
 pub mod body_values;

@@ -160,8 +160,14 @@ impl RunOutput {
         }
     }
 
-    /// Writes one frame of every series.
+    /// Writes one frame of every VTK series and a row of every CSV series.
     pub fn write(&mut self, world: &World) -> io::Result<()> {
+        self.write_frame(world)?;
+        self.write_rows(world)
+    }
+
+    /// Writes one frame of every VTK series.
+    pub fn write_frame(&mut self, world: &World) -> io::Result<()> {
         let b = world.bodies();
         let values = BodyValues::of(world, &self.names);
         let fields = values.fields(world);
@@ -201,7 +207,14 @@ impl RunOutput {
             write_force_network(&self.dir.join(&name), &force_network(world), world.time())?;
             self.contacts.add(world.time(), &name, 0)?;
         }
+        self.frame += 1;
+        Ok(())
+    }
 
+    /// Writes a row of every CSV series: the energy ledger now, wall forces and flow over the
+    /// interval since the last row.
+    pub fn write_rows(&mut self, world: &World) -> io::Result<()> {
+        let b = world.bodies();
         let e = world.energy();
         let mut row = vec![
             world.time(),
@@ -222,12 +235,10 @@ impl RunOutput {
             row.push(packing_fraction(world, &region));
         }
         self.energy.push(&row)?;
-        self.write_interval_means(world)?;
-        self.frame += 1;
-        Ok(())
+        self.write_interval_means(world)
     }
 
-    /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last frame.
+    /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last row.
     fn write_interval_means(&mut self, world: &World) -> io::Result<()> {
         let interval = world.time() - self.last_time;
         if interval <= 0.0 {

@@ -197,6 +197,10 @@ pub struct OutputSpec {
     /// Simulated seconds between checkpoints (`checkpoints/`); none: only at the end of the run
     /// and when it is interrupted.
     pub checkpoint_interval: Option<f64>,
+    /// Seconds between VTK frames; default `[simulation] output_interval`.
+    pub vtk_interval: Option<f64>,
+    /// Seconds between rows of the CSV series; default `[simulation] output_interval`.
+    pub csv_interval: Option<f64>,
 }
 
 /// A mass flow meter: through a plane (`point`, `normal`) or out of a box (`min`, `max`).

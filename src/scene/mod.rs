@@ -44,7 +44,11 @@ pub struct Scene {
 pub struct Prepared {
     pub world: World,
     pub duration: f64,
+    /// Simulated seconds between VTK frames.
     pub output_interval: f64,
+    /// Simulated seconds between rows of the CSV series (`energy.csv`, `wall_forces.csv`,
+    /// `flow.csv`).
+    pub csv_interval: f64,
     /// Simulated seconds between checkpoints (`[output] checkpoint_interval`); `None`: only at
     /// the end and when interrupted.
     pub checkpoint_interval: Option<f64>,
@@ -399,7 +403,16 @@ impl Scene {
         Ok(Prepared {
             world,
             duration,
-            output_interval: spec.simulation.output_interval.unwrap_or(duration / 100.0),
+            output_interval: spec
+                .output
+                .vtk_interval
+                .or(spec.simulation.output_interval)
+                .unwrap_or(duration / 100.0),
+            csv_interval: spec
+                .output
+                .csv_interval
+                .or(spec.simulation.output_interval)
+                .unwrap_or(duration / 100.0),
             checkpoint_interval: spec.output.checkpoint_interval,
             estimate,
             automatic_time_step: automatic,

@@ -14,12 +14,14 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     if let Some(interval) = s.simulation.output_interval {
         c.positive(sim.clone().key("output_interval"), interval, "s")?;
     }
-    if let Some(interval) = s.output.checkpoint_interval {
-        c.positive(
-            KeyPath::table("output").key("checkpoint_interval"),
-            interval,
-            "s",
-        )?;
+    for (key, interval) in [
+        ("checkpoint_interval", s.output.checkpoint_interval),
+        ("vtk_interval", s.output.vtk_interval),
+        ("csv_interval", s.output.csv_interval),
+    ] {
+        if let Some(interval) = interval {
+            c.positive(KeyPath::table("output").key(key), interval, "s")?;
+        }
     }
     c.vector(sim.clone().key("gravity"), s.simulation.gravity())?;
     if let Some(skin) = s.simulation.skin {
