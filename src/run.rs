@@ -16,8 +16,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 mod resume;
+mod trial;
 
 pub use resume::{resume, ResumeOptions};
+pub use trial::{bodies_to_come, Trial};
 
 /// Why a run stopped before its end.
 #[derive(Debug)]

@@ -648,3 +648,30 @@ fn command_line_overrides_are_checked_like_the_file() {
         text(&bad.stderr)
     );
 }
+
+/// `check` on a scene whose bodies arrive during the run says what will come, and estimates the
+/// run time from a short trial.
+#[test]
+fn check_tells_the_bodies_to_come_and_an_estimated_run_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = plus(
+        r#"
+[[insert]]
+method = "random"
+material = "glass"
+region_min = [-0.05, -0.05, 0.02]
+region_max = [0.05, 0.05, 0.04]
+count = 5
+radius = 0.002
+time = 0.0005
+every = 0.0005
+"#,
+    );
+    let out = checked(dir.path(), &scene);
+    // From 0.5 ms every 0.5 ms to the end at 2 ms: 4 times, 20 bodies at most.
+    assert!(
+        out.contains("[[insert]] #1: 5 'sphere' bodies every 0.0005 s from 0.0005 s, 4 times: up to 20 bodies"),
+        "{out}"
+    );
+    assert!(out.contains("estimate     roughly "), "{out}");
+}

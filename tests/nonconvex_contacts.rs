@@ -156,6 +156,7 @@ rotation = [{rx}, {ry}, {rz}]
     let options = OutputOptions {
         force_network: true,
         packing_region: None,
+        extent: None,
     };
     let mut out = RunOutput::create(dir.path(), w, &options, Default::default()).unwrap();
     out.write(w).unwrap();

@@ -366,6 +366,7 @@ impl Scene {
             law: normal,
             gravity: strongest,
         })?;
+        let extent = self.extent(&bodies, &planes, &mesh_walls);
         let world = World::new(WorldConfig {
             time_step,
             gravity,
@@ -424,6 +425,7 @@ impl Scene {
                     .packing_region
                     .as_ref()
                     .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
+                extent,
             },
             notes: shapes
                 .iter()
@@ -434,6 +436,35 @@ impl Scene {
                 .map(|(name, b)| (name.clone(), b.shape.clone()))
                 .collect(),
         })
+    }
+
+    /// Where the scene happens: its bodies at the start, insertion regions, plane walls' points,
+    /// mesh walls and the domain (for drawing plane walls as far as that). `None` for a scene of
+    /// nothing.
+    fn extent(
+        &self,
+        bodies: &[(BodyInit, KeyPath)],
+        planes: &[Plane],
+        mesh_walls: &[crate::wall::MeshWall],
+    ) -> Option<crate::math::Aabb> {
+        use crate::math::Aabb;
+        let spec = &self.spec;
+        let boxes = bodies
+            .iter()
+            .map(|(b, _)| Aabb::around_sphere(b.position, b.shape.bounding_radius()))
+            .chain(
+                spec.insertions
+                    .iter()
+                    .map(|i| Aabb::new(DVec3::from(i.region_min), DVec3::from(i.region_max))),
+            )
+            .chain(planes.iter().map(|p| Aabb::new(p.point, p.point)))
+            .chain(mesh_walls.iter().map(|w| w.bounds()))
+            .chain(
+                spec.domain
+                    .iter()
+                    .map(|d| Aabb::new(DVec3::from(d.min), DVec3::from(d.max))),
+            );
+        boxes.reduce(|a, b| a.union(&b))
     }
 
     /// `[simulation] gravity_table`, checked.
