@@ -675,3 +675,25 @@ every = 0.0005
     );
     assert!(out.contains("estimate     roughly "), "{out}");
 }
+
+#[test]
+fn wall_names_must_be_usable_as_column_heads_and_distinct() {
+    let named = |name: &str| {
+        edit(
+            "material = \"glass\"\n\n[[particle]]",
+            &format!("material = \"glass\"\nname = \"{name}\"\n\n[[particle]]"),
+        )
+    };
+    refused(
+        Some(&named("floor plate")),
+        &["[[plane]] #1 name", "letters, digits"],
+    );
+    let two = format!(
+        "{}\n[[plane]]\nname = \"floor\"\npoint = [0.0, 0.0, 1.0]\nnormal = [0.0, 0.0, -1.0]\nmaterial = \"glass\"\n",
+        named("floor")
+    );
+    refused(
+        Some(&two),
+        &["[[plane]] #2 name", "two walls are called \"floor\""],
+    );
+}

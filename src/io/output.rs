@@ -61,6 +61,9 @@ pub struct OutputOptions {
     /// Where the scene happens (bodies, insertion regions, walls; see `Scene::extent`): plane
     /// walls are drawn as far as it reaches. `None`: around the bodies at the start.
     pub extent: Option<Aabb>,
+    /// Names of the walls in `wall_forces.csv`, planes first, then mesh walls; a wall without
+    /// one is `wallN` (its number in `walls.pvd`).
+    pub wall_names: Vec<String>,
 }
 
 /// The files of one run and what they have recorded so far. Plain data, so that a checkpoint can
@@ -126,7 +129,10 @@ impl RunOutput {
             polyhedra: PvdSeries::new(dir.join("polyhedra.pvd")),
             contacts: PvdSeries::new(dir.join("contacts.pvd")),
             energy: CsvSeries::new(dir.join("energy.csv"), &columns),
-            wall_forces: CsvSeries::new(dir.join("wall_forces.csv"), &wall_force_columns(world)),
+            wall_forces: CsvSeries::new(
+                dir.join("wall_forces.csv"),
+                &wall_force_columns(world, &options.wall_names),
+            ),
             flow: CsvSeries::new(dir.join("flow.csv"), &flow_columns(world)),
             options: options.clone(),
             last_time: world.time(),
@@ -368,12 +374,13 @@ fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn wall_force_columns(world: &World) -> Vec<String> {
+fn wall_force_columns(world: &World, names: &[String]) -> Vec<String> {
     let walls = world.planes().len() + world.mesh_walls().len();
     let mut columns = vec!["time".to_string()];
     for w in 0..walls {
+        let name = names.get(w).cloned().unwrap_or_else(|| format!("wall{w}"));
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-            columns.push(format!("wall{w}_{c}"));
+            columns.push(format!("{name}_{c}"));
         }
     }
     columns

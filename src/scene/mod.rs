@@ -208,6 +208,14 @@ fn plane_obstacles(planes: &[Plane]) -> Vec<insert::PlaneObstacle> {
         .collect()
 }
 
+/// Whether `name` can head CSV columns as it is: letters, digits, `_` and `-`.
+fn usable_as_column(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 impl Scene {
     /// Reads and parses a scene file.
     pub fn load(file: &Path) -> Result<Self, SceneError> {
@@ -426,6 +434,7 @@ impl Scene {
                     .as_ref()
                     .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
                 extent,
+                wall_names: self.wall_names()?,
             },
             notes: shapes
                 .iter()
@@ -489,16 +498,54 @@ impl Scene {
             .map_err(|e| self.error(key, format!("{e} (rows are [time, gx, gy, gz])")))
     }
 
+    /// The names of the walls in `wall_forces.csv`: planes first, then mesh walls, each its
+    /// `name` or `wallN`; checked to be usable as column heads and distinct.
+    fn wall_names(&self) -> Result<Vec<String>, SceneError> {
+        let spec = &self.spec;
+        let given =
+            spec.planes
+                .iter()
+                .enumerate()
+                .map(|(n, p)| (KeyPath::entry("plane", n).key("name"), p.name.as_ref()))
+                .chain(
+                    spec.mesh_walls.iter().enumerate().map(|(n, w)| {
+                        (KeyPath::entry("mesh_wall", n).key("name"), w.name.as_ref())
+                    }),
+                );
+        let mut names: Vec<String> = Vec::new();
+        for (w, (key, name)) in given.enumerate() {
+            let name = match name {
+                None => format!("wall{w}"),
+                Some(name) => {
+                    if !usable_as_column(name) {
+                        return Err(self.error(
+                            key,
+                            format!(
+                                "{name:?}: a wall's name heads its columns in wall_forces.csv; \
+                                 use letters, digits, `_` and `-`"
+                            ),
+                        ));
+                    }
+                    name.clone()
+                }
+            };
+            if names.contains(&name) {
+                return Err(self.error(
+                    key,
+                    format!("two walls are called {name:?}: give each its own name"),
+                ));
+            }
+            names.push(name);
+        }
+        Ok(names)
+    }
+
     /// The `[[output.flow_meter]]`s.
     fn flow_meters(&self) -> Result<Vec<FlowMeter>, SceneError> {
         let mut meters: Vec<FlowMeter> = Vec::new();
         for (n, m) in self.spec.output.flow_meters.iter().enumerate() {
             let key = |k: &str| KeyPath::table("output").key(&format!("flow_meter[{n}].{k}"));
-            let good_name = !m.name.is_empty()
-                && m.name
-                    .chars()
-                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
-            if !good_name {
+            if !usable_as_column(&m.name) {
                 return Err(self.error(
                     key("name"),
                     format!(
