@@ -697,3 +697,44 @@ fn wall_names_must_be_usable_as_column_heads_and_distinct() {
         &["[[plane]] #2 name", "two walls are called \"floor\""],
     );
 }
+
+/// A mesh wall pushes bodies out of the side its triangles face. One that faces away from the
+/// bodies falling onto it would let them through or shoot them out (issue #12): refused, with
+/// the way to turn it.
+#[test]
+fn mesh_walls_facing_away_from_the_bodies_are_refused() {
+    // A closed box whose triangles face out (a solid block), with the bead inside it.
+    let block = plus(
+        "\n[[mesh_wall]]\nmaterial = \"glass\"\n\
+         generator = { type = \"box\", min = [-0.1, -0.1, -0.1], max = [0.1, 0.1, 0.1], facing = \"outward\" }\n",
+    );
+    refused(
+        Some(&block),
+        &["[[particle]] #1", "back of [[mesh_wall]] #1", "facing"],
+    );
+    // The same box facing in (a container) holds it.
+    let dir = tempfile::tempdir().unwrap();
+    checked(dir.path(), &block.replace("\"outward\"", "\"inward\""));
+
+    // A chute from a mesh file wound the wrong way, under the bead.
+    let stl = dir.path().join("chute.stl");
+    std::fs::write(
+        &stl,
+        "solid chute\n\
+         facet normal 0 0 -1\n outer loop\n  vertex -0.1 -0.1 0.001\n  vertex -0.1 0.1 0.001\n  vertex 0.1 -0.1 0.001\n endloop\nendfacet\n\
+         facet normal 0 0 -1\n outer loop\n  vertex 0.1 -0.1 0.001\n  vertex -0.1 0.1 0.001\n  vertex 0.1 0.1 0.001\n endloop\nendfacet\n\
+         endsolid chute\n",
+    )
+    .unwrap();
+    let chute = |flip: &str| {
+        plus(&format!(
+            "\n[[mesh_wall]]\nmaterial = \"glass\"\nfile = {:?}\n{flip}\n",
+            stl.display().to_string()
+        ))
+    };
+    refused(
+        Some(&chute("")),
+        &["back of [[mesh_wall]] #1", "flip = true"],
+    );
+    checked(dir.path(), &chute("flip = true"));
+}

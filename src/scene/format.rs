@@ -374,6 +374,9 @@ pub struct MeshWallSpec {
     pub name: Option<String>,
     /// STL or OBJ file, relative to the scene file's folder.
     pub file: Option<String>,
+    /// Reverse the winding of the file's triangles (a mesh that faces away from the bodies).
+    #[serde(default)]
+    pub flip: bool,
     pub generator: Option<WallGenerator>,
     #[serde(default = "unit_scale")]
     pub scale: f64,

@@ -13,6 +13,7 @@ pub mod overrides;
 pub mod shapes;
 mod time_step;
 mod validate;
+mod wall_sides;
 pub mod walls;
 
 pub use error::{KeyPath, SceneError};
@@ -336,6 +337,8 @@ impl Scene {
         let shapes = shapes::build(self)?;
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
+        // Sides first: a body behind a wall also overlaps it, and the side is the fault.
+        self.check_mesh_wall_sides(&bodies, &mesh_walls, self.falling_direction())?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
         let mut schedule = Vec::new();
         for (index, i) in spec.insertions.iter().enumerate() {
@@ -474,6 +477,22 @@ impl Scene {
                     .map(|d| Aabb::new(DVec3::from(d.min), DVec3::from(d.max))),
             );
         boxes.reduce(|a, b| a.union(&b))
+    }
+
+    /// The direction bodies fall at the start: gravity, or under a gravity table its first
+    /// non-zero row (zero if there is none).
+    fn falling_direction(&self) -> DVec3 {
+        let sim = &self.spec.simulation;
+        let first = DVec3::from(sim.gravity());
+        if first != DVec3::ZERO {
+            return first;
+        }
+        sim.gravity_table
+            .iter()
+            .flatten()
+            .map(|r| DVec3::new(r[1], r[2], r[3]))
+            .find(|g| *g != DVec3::ZERO)
+            .unwrap_or(DVec3::ZERO)
     }
 
     /// `[simulation] gravity_table`, checked.
