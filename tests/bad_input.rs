@@ -738,3 +738,57 @@ fn mesh_walls_facing_away_from_the_bodies_are_refused() {
     );
     checked(dir.path(), &chute("flip = true"));
 }
+
+/// A forced time step 30 times the stable one: every number stays finite, but the energy grows
+/// a thousandfold within a few steps. The energy watchdog stops the run and says why.
+#[test]
+fn a_run_whose_energy_grows_stops_and_says_why() {
+    let scene = r#"[simulation]
+duration = 0.05
+output_interval = 0.005
+time_step = 6.0e-4
+force_time_step = true
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "glass"
+
+[[insert]]
+method = "random"
+seed = 1
+material = "glass"
+region_min = [-0.01, -0.01, 0.0]
+region_max = [0.01, 0.01, 0.05]
+count = 50
+radius = 0.002
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, scene).unwrap();
+    let output = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    for expected in ["blew up", "energy ledger", "time step", SCENE] {
+        assert!(
+            stderr.contains(expected),
+            "'{expected}' missing from:\n{stderr}"
+        );
+    }
+    // Stopped early, not at the end.
+    let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
+    assert!(pvd.matches("<DataSet").count() < 5, "{pvd}");
+}
