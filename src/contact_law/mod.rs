@@ -182,8 +182,7 @@ pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: 
     debug_assert!(k.overlap_volume.is_none() && law.rolling_friction <= 0.0);
     let (elastic, stiffness, elastic_energy, contact_radius) =
         normal::elastic(law, k.overlap, k.effective_radius);
-    let damping_coefficient =
-        normal::damping_coefficient(law.damping, k.effective_mass, stiffness, dt);
+    let damping_coefficient = law.damping * (k.effective_mass * stiffness).sqrt();
     let n = normal::NormalForce {
         elastic,
         total: (elastic + damping_coefficient * k.overlap_rate).max(0.0),
@@ -212,7 +211,7 @@ pub fn evaluate(
     spin: &mut SpinHistory,
     dt: f64,
 ) -> Response {
-    let n = normal::normal_force(law, k, dt);
+    let n = normal::normal_force(law, k);
     let t = tangential::tangential_force(law, k, &n, history, dt);
     let r = rolling::rolling_torque(law, k, &n, spin, dt);
     let kt = history.tangential_stiffness;

@@ -25,11 +25,7 @@ pub struct NormalForce {
 
 impl NormalForce {
     /// Work done by the non-elastic part of the normal force against the relative motion over
-    /// `dt`: what damping (and the no-tension cut-off) took out of the bodies. The rate is the one
-    /// predicted for the end of the step, between the two half kicks the force acts in, which
-    /// makes this the midpoint rule. (Where the dashpot is held to its bound — restitution near
-    /// 0 — the prediction misses the new force, and the first step of a contact books up to twice
-    /// what it takes out: issue #11.)
+    /// `dt`: what damping (and the no-tension cut-off) took out of the bodies.
     pub fn dissipated(&self, overlap_rate: f64, dt: f64) -> f64 {
         (self.total - self.elastic) * overlap_rate * dt
     }
@@ -101,23 +97,7 @@ pub fn volume_law(
 /// Normal force with viscous damping F_d = c √(m* S_n) dδ/dt (the form of Tsuji et al. 1992 for
 /// Hertz, of Cundall & Strack 1979 for the linear spring), cut off at zero so that a contact never
 /// pulls: the damping constant c of [`super::restitution`] accounts for the cut-off.
-/// The dashpot coefficient c √(m* S_n), held to what the explicit step `dt` can take: a dashpot
-/// that takes more than the relative normal velocity out in one step (c_d dt > m*) reverses it
-/// and creates energy — restitutions of 1e-3 and below shot bodies out at 80 times their impact
-/// speed. At the bound the approach stops within the step, which is what e → 0 asks for; below
-/// it (every ordinary restitution at the automatic step) nothing changes. `dt` = 0 (the forces
-/// at the start): no bound.
-#[inline(always)]
-pub fn damping_coefficient(c: f64, effective_mass: f64, stiffness: f64, dt: f64) -> f64 {
-    let d = c * (effective_mass * stiffness).sqrt();
-    if d * dt > effective_mass {
-        effective_mass / dt
-    } else {
-        d
-    }
-}
-
-pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
+pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
     let ((elastic, stiffness, elastic_energy, contact_radius), c, pressure_couple) =
         match k.overlap_volume {
             Some(v) => {
@@ -134,7 +114,7 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
                 DVec3::ZERO,
             ),
         };
-    let damping_coefficient = damping_coefficient(c, k.effective_mass, stiffness, dt);
+    let damping_coefficient = c * (k.effective_mass * stiffness).sqrt();
     let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);
     NormalForce {
         elastic,

@@ -152,7 +152,7 @@ mod tests {
     /// spring stretched by this step's slip, plus the dashpot) exceeded it, i.e. the contact slid.
     fn step(k: &Kinematics, history: &mut History, dt: f64) -> (DVec3, f64, bool) {
         let law = law();
-        let n = normal_force(&law, k, dt);
+        let n = normal_force(&law, k);
         let limit = law.friction * n.total;
         let kt = stiffness(&law, &n, k);
         let gamma = n.damping_coefficient * law.tangential_damping_ratio;
