@@ -56,8 +56,9 @@ impl EnergyWatch {
                  {drift:.3e} J, more than half of all the energy that has been in play \
                  ({:.3e} J); a sound run stays within a percent. Kinetic energy is now {:.3e} J. \
                  Likely causes: a time step above the stable one (`force_time_step`; `polydem \
-                 check` prints the estimate), or material values out of any physical range. The \
-                 frames written before are valid.",
+                 check` prints the estimate), a restitution near 0 (below about 0.01 the dashpot \
+                 is stiffer than the step can follow: give a smaller `time_step`), or material \
+                 values out of any physical range. The frames written before are valid.",
                 world.time(),
                 world.steps_done(),
                 self.in_play,
