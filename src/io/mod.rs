@@ -1,5 +1,5 @@
 //! Mesh input (`mesh`: STL and OBJ files read into welded triangle lists) and
-//! simulation output: particle and wall snapshots for ParaView (`.vtp` plus a
+//! simulation output (and `vtk_read`, which reads it back for pictures): particle and wall snapshots for ParaView (`.vtp` plus a
 //! `.pvd` time series) and scalar time series as CSV.
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
@@ -13,6 +13,7 @@ pub mod csv;
 pub mod mesh;
 pub mod output;
 pub mod vtk;
+pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_atomic_bytes};
 pub use csv::CsvSeries;
