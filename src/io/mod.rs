@@ -10,6 +10,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod csv_read;
 pub mod mesh;
 pub mod output;
 pub mod vtk;

@@ -1,0 +1,479 @@
+//! One picture of one frame: particles (spheres traced, polyhedra by their faces), walls
+//! (semi-transparent, or cut away), the force network, a title and a colour bar.
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use super::camera::{Camera, View, Viewport};
+use super::colormap::{fraction, turbo, Rgb};
+use super::cut::Cut;
+use super::overlay::{self, ColourBar};
+use super::raster::{Raster, Shading};
+use super::run_files::{FrameChoice, RunFiles, Snapshot};
+use super::{png, PictureError};
+use crate::io::vtk_read::PolyData;
+
+/// Supersampling: each output pixel is the mean of 2 × 2 samples, for smooth edges.
+const SAMPLES: usize = 2;
+const BACKGROUND: Rgb = [1.0, 1.0, 1.0];
+/// Opacity of one layer of wall: several layers (a trough seen through its far side) still
+/// leave the particles readable.
+const WALL_ALPHA: f32 = 0.22;
+/// Muted tints telling walls apart (a screw from its trough), by wall number.
+const WALL_TINTS: [Rgb; 4] = [
+    [0.55, 0.58, 0.64],
+    [0.66, 0.62, 0.54],
+    [0.52, 0.62, 0.56],
+    [0.62, 0.55, 0.64],
+];
+
+/// How to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderOptions {
+    pub view: View,
+    /// The point-data array of the particles that colours them (vectors by their length);
+    /// `speed` is the length of `velocity` when the file has no `speed` array.
+    pub colour: String,
+    /// Fixed colour range; by default the range of the frame (of all frames for a series).
+    pub range: Option<(f64, f64)>,
+    pub cuts: Vec<Cut>,
+    pub width: usize,
+    pub height: usize,
+    /// Draw the contacts as lines scaled and coloured by their normal force, the particles pale.
+    pub force_network: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            view: View::Iso,
+            colour: "speed".into(),
+            range: None,
+            cuts: Vec::new(),
+            width: 1200,
+            height: 900,
+            force_network: false,
+        }
+    }
+}
+
+/// A rendered frame: 8-bit RGB rows, top to bottom, and the camera that made it (in output
+/// pixels), to find where a world point lies in the picture.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    pub width: usize,
+    pub height: usize,
+    pub rgb: Vec<u8>,
+    pub camera: Camera,
+}
+
+impl Picture {
+    pub fn pixel(&self, x: usize, y: usize) -> [u8; 3] {
+        let i = 3 * (y * self.width + x);
+        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+}
+
+/// The unit of a point-data array of `particles_*.vtp`, for the colour bar.
+fn unit(name: &str) -> &'static str {
+    match name {
+        "speed" | "velocity" => " [m/s]",
+        "angular_velocity" => " [rad/s]",
+        "radius" => " [m]",
+        "force" | "normal_force" => " [N]",
+        "torque" => " [N m]",
+        _ => "",
+    }
+}
+
+/// One value per particle for the field `name`, or an error listing the fields there are.
+pub fn particle_values(snap: &Snapshot, name: &str) -> Result<Vec<f64>, PictureError> {
+    let p = &snap.particles;
+    if let Some(array) = p.point_array(name) {
+        return Ok(array.magnitudes());
+    }
+    if name == "speed" {
+        if let Some(v) = p.point_array("velocity") {
+            return Ok(v.magnitudes());
+        }
+    }
+    let mut names = p.point_array_names();
+    if p.point_array("velocity").is_some() && !names.contains(&"speed") {
+        names.push("speed");
+    }
+    Err(PictureError::file(
+        &snap.particles_file,
+        format!(
+            "has no point data '{name}' to colour by; use --color with one of: {}",
+            names.join(", ")
+        ),
+    ))
+}
+
+/// The values that set the colour range of a frame: the particles' field, or the contacts'
+/// normal forces in a force-network picture.
+pub fn frame_values(snap: &Snapshot, options: &RenderOptions) -> Result<Vec<f64>, PictureError> {
+    if options.force_network {
+        Ok(normal_forces(snap)?.unwrap_or_default())
+    } else {
+        particle_values(snap, &options.colour)
+    }
+}
+
+fn normal_forces(snap: &Snapshot) -> Result<Option<Vec<f64>>, PictureError> {
+    let Some((file, contacts)) = &snap.contacts else {
+        return Ok(None);
+    };
+    let forces = contacts.cell_array("normal_force").ok_or_else(|| {
+        PictureError::file(
+            file,
+            "has no cell data 'normal_force' (not a force network?)",
+        )
+    })?;
+    Ok(Some(forces.magnitudes()))
+}
+
+/// The finite range of `values`; (0, 0) when there is none.
+pub fn value_range(values: &[f64]) -> (f64, f64) {
+    let finite = values.iter().copied().filter(|v| v.is_finite());
+    let low = finite.clone().fold(f64::INFINITY, f64::min);
+    let high = finite.fold(f64::NEG_INFINITY, f64::max);
+    if low <= high {
+        (low, high)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// The unit normal of a polygon by Newell's method, which is exact for planar polygons and
+/// does not break on a few collinear corners.
+fn polygon_normal(corners: &[DVec3]) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for (k, &p) in corners.iter().enumerate() {
+        let q = corners[(k + 1) % corners.len()];
+        n += DVec3::new(
+            (p.y - q.y) * (p.z + q.z),
+            (p.z - q.z) * (p.x + q.x),
+            (p.x - q.x) * (p.y + q.y),
+        );
+    }
+    n.normalize_or_zero()
+}
+
+fn corners(data: &PolyData, polygon: &[u32]) -> Vec<DVec3> {
+    polygon.iter().map(|&v| data.points[v as usize]).collect()
+}
+
+/// Renders one frame. `name` goes into the title.
+pub fn render_snapshot(
+    name: &str,
+    snap: &Snapshot,
+    options: &RenderOptions,
+) -> Result<Picture, PictureError> {
+    let (width, height) = (options.width, options.height);
+    if !(64..=16384).contains(&width) || !(64..=16384).contains(&height) {
+        return Err(PictureError::Option(format!(
+            "picture size {width}x{height}: each side must be 64 to 16384 pixels"
+        )));
+    }
+    let particles = &snap.particles;
+    let radii = particles
+        .point_array("radius")
+        .ok_or_else(|| PictureError::file(&snap.particles_file, "has no point data 'radius'"))?;
+    let radii = &radii.values;
+    let ids: Vec<f64> = match particles.point_array("id") {
+        Some(a) => a.values.clone(),
+        None => (0..particles.points.len()).map(|i| i as f64).collect(),
+    };
+    let index_of_id: HashMap<u64, usize> = ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id as u64, i))
+        .collect();
+
+    // Polyhedral bodies are drawn by their faces, which carry the body's id.
+    let polyhedra = match &snap.polyhedra {
+        Some((file, data)) => {
+            let face_ids = data.cell_array("id").ok_or_else(|| {
+                PictureError::file(file, "has no cell data 'id' naming each face's body")
+            })?;
+            if face_ids.len() != data.polys.len() {
+                return Err(PictureError::file(file, "has not one 'id' per polygon"));
+            }
+            Some((data, face_ids.values.clone()))
+        }
+        None => None,
+    };
+    let polyhedral: HashSet<u64> = polyhedra
+        .iter()
+        .flat_map(|(_, ids)| ids.iter().map(|&id| id as u64))
+        .collect();
+
+    let (values, bar_label, forces) = if options.force_network {
+        let forces = normal_forces(snap)?.ok_or_else(|| {
+            PictureError::Option(
+                "--force-network: the run wrote no contacts.pvd; set force_network = true in \
+                 the scene's [output] and run it again"
+                    .into(),
+            )
+        })?;
+        (Vec::new(), format!("normal force{}", unit("force")), forces)
+    } else {
+        let values = particle_values(snap, &options.colour)?;
+        let label = format!("{}{}", options.colour, unit(&options.colour));
+        (values, label, Vec::new())
+    };
+    let (low, high) = options.range.unwrap_or_else(|| {
+        value_range(if options.force_network {
+            &forces
+        } else {
+            &values
+        })
+    });
+
+    // The camera frames everything, walls included (before any cut, so that a cut does not
+    // move the picture).
+    let (title_height, bar_width) = overlay::margins(width, height);
+    let viewport = Viewport {
+        x: 0.0,
+        y: title_height as f64,
+        width: (width - bar_width) as f64,
+        height: (height - title_height) as f64,
+    };
+    let mut bounds: Vec<(DVec3, f64)> = particles
+        .points
+        .iter()
+        .zip(radii)
+        .map(|(&p, &r)| (p, r))
+        .collect();
+    for data in [
+        snap.walls.as_ref().map(|(_, d)| d),
+        polyhedra.as_ref().map(|(d, _)| *d),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        bounds.extend(data.points.iter().map(|&p| (p, 0.0)));
+    }
+    let camera = Camera::fit(options.view, bounds.into_iter(), viewport);
+    let fine = camera.scaled(SAMPLES as f64);
+    let shading = Shading::default();
+    let mut raster = Raster::new(width * SAMPLES, height * SAMPLES, BACKGROUND);
+
+    let colour_of = |i: usize| -> Rgb {
+        if options.force_network {
+            [0.8, 0.8, 0.8]
+        } else {
+            turbo(fraction(values[i], low, high))
+        }
+    };
+    for (i, (&p, &r)) in particles.points.iter().zip(radii).enumerate() {
+        if polyhedral.contains(&(ids[i] as u64)) {
+            continue;
+        }
+        let c = fine.project(p);
+        raster.sphere(c, r * fine.scale(), r, colour_of(i), &shading);
+    }
+    if let Some((data, face_ids)) = &polyhedra {
+        for (polygon, &id) in data.polys.iter().zip(face_ids) {
+            let Some(&i) = index_of_id.get(&(id as u64)) else {
+                continue;
+            };
+            let world = corners(data, polygon);
+            let colour = shading.shade(colour_of(i), fine.to_view(polygon_normal(&world)));
+            let screen: Vec<DVec3> = world.iter().map(|&p| fine.project(p)).collect();
+            raster.polygon(&screen, colour, None);
+        }
+    }
+
+    if let Some((file, walls)) = &snap.walls {
+        let wall_ids = walls.cell_array("wall");
+        if wall_ids.is_some_and(|w| w.len() != walls.polys.len()) {
+            return Err(PictureError::file(file, "has not one 'wall' per polygon"));
+        }
+        // Cut walls are opaque: what is left of them is behind the particles anyway.
+        let alpha = options.cuts.is_empty().then_some(WALL_ALPHA);
+        for (k, polygon) in walls.polys.iter().enumerate() {
+            let mut world = corners(walls, polygon);
+            for cut in &options.cuts {
+                world = cut.clip(&world);
+            }
+            if world.len() < 3 {
+                continue;
+            }
+            let wall = wall_ids.map_or(0, |w| w.values[k] as usize);
+            let colour = shading.shade(
+                WALL_TINTS[wall % WALL_TINTS.len()],
+                fine.to_view(polygon_normal(&world)),
+            );
+            let screen: Vec<DVec3> = world.iter().map(|&p| fine.project(p)).collect();
+            raster.polygon(&screen, colour, alpha);
+        }
+    }
+
+    if options.force_network {
+        if let Some((_, contacts)) = &snap.contacts {
+            raster.fade(BACKGROUND, 0.35);
+            // Strongest last, so they lie on top.
+            let mut order: Vec<usize> = (0..forces.len()).collect();
+            order.sort_by(|&a, &b| forces[a].total_cmp(&forces[b]));
+            let lines: Vec<&[u32]> = contacts.lines.iter().collect();
+            for k in order {
+                let t = fraction(forces[k], low, high);
+                let width_px = (1.0 + 5.0 * t) * SAMPLES as f64;
+                let line = lines[k];
+                for pair in line.windows(2) {
+                    let a = fine.project(contacts.points[pair[0] as usize]);
+                    let b = fine.project(contacts.points[pair[1] as usize]);
+                    raster.line(a, b, width_px, turbo(t));
+                }
+            }
+        }
+    }
+
+    let (w, h, mut rgb) = raster.to_rgb8(SAMPLES);
+    let title = format!(
+        "{name}   t = {} s   {} bodies",
+        overlay::format_value(snap.time),
+        particles.points.len()
+    );
+    let bar = ColourBar {
+        label: bar_label,
+        low,
+        high,
+    };
+    overlay::draw(&mut rgb, w, h, &title, Some(&bar))?;
+    Ok(Picture {
+        width: w,
+        height: h,
+        rgb,
+        camera,
+    })
+}
+
+/// Where frame `index` goes: `out` itself for a single picture named `*.png`, else a numbered
+/// file in `out` (a folder, by default the run's own).
+fn output_path(dir: &Path, out: Option<&Path>, index: usize, series: bool) -> PathBuf {
+    let numbered = format!("render_{index:06}.png");
+    match out {
+        Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) => {
+            if series {
+                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+                p.with_file_name(format!("{stem}_{index:06}.png"))
+            } else {
+                p.to_path_buf()
+            }
+        }
+        Some(folder) => folder.join(numbered),
+        None => dir.join(numbered),
+    }
+}
+
+/// Renders the chosen frames of the run in `dir` to PNG files; returns the files written.
+/// A series shares one colour range (that of all its frames) so that colours compare.
+pub fn render_run(
+    dir: &Path,
+    frames: FrameChoice,
+    options: &RenderOptions,
+    out: Option<&Path>,
+) -> Result<Vec<PathBuf>, PictureError> {
+    let run = RunFiles::open(dir)?;
+    if options.force_network && !run.has_contacts() {
+        return Err(PictureError::Option(format!(
+            "--force-network: {} has no contacts.pvd; set force_network = true in the scene's \
+             [output] and run it again",
+            dir.display()
+        )));
+    }
+    let indices = run.select(frames)?;
+    let series = frames == FrameChoice::All;
+    let mut options = options.clone();
+    if series && options.range.is_none() {
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &i in &indices {
+            let (l, h) = value_range(&frame_values(
+                &run.load(i, options.force_network)?,
+                &options,
+            )?);
+            low = low.min(l);
+            high = high.max(h);
+        }
+        options.range = (low <= high).then_some((low, high));
+    }
+    let name = run.name();
+    let mut written = Vec::new();
+    for &i in &indices {
+        let snap = run.load(i, options.force_network)?;
+        let picture = render_snapshot(&name, &snap, &options)?;
+        let path = output_path(dir, out, i, series);
+        if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .map_err(|e| PictureError::file(parent, e.to_string()))?;
+        }
+        png::write_rgb(&path, picture.width, picture.height, &picture.rgb)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Reads `--size WxH`.
+pub fn parse_size(text: &str) -> Result<(usize, usize), String> {
+    let bad =
+        || format!("cannot read size '{text}': write width x height in pixels, e.g. 1200x900");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: usize = w.trim().parse().map_err(|_| bad())?;
+    let h: usize = h.trim().parse().map_err(|_| bad())?;
+    Ok((w, h))
+}
+
+/// Reads `--range LOW:HIGH`.
+pub fn parse_range(text: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("cannot read range '{text}': write low:high, e.g. 0:1.5");
+    let (l, h) = text.split_once(':').ok_or_else(bad)?;
+    let l: f64 = l.trim().parse().map_err(|_| bad())?;
+    let h: f64 = h.trim().parse().map_err(|_| bad())?;
+    if !(l.is_finite() && h.is_finite() && l < h) {
+        return Err(bad());
+    }
+    Ok((l, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_ranges_parse() {
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert!(parse_size("800").unwrap_err().contains("e.g. 1200x900"));
+        assert_eq!(parse_range("0:1.5"), Ok((0.0, 1.5)));
+        assert!(parse_range("2:1").is_err());
+    }
+
+    #[test]
+    fn output_paths() {
+        let dir = Path::new("run");
+        assert_eq!(
+            output_path(dir, None, 3, false),
+            Path::new("run/render_000003.png")
+        );
+        let file = Path::new("pics/a.png");
+        assert_eq!(output_path(dir, Some(file), 3, false), file);
+        assert_eq!(
+            output_path(dir, Some(file), 3, true),
+            Path::new("pics/a_000003.png")
+        );
+        assert_eq!(
+            output_path(dir, Some(Path::new("pics")), 3, true),
+            Path::new("pics/render_000003.png")
+        );
+    }
+
+    #[test]
+    fn newell_normal_of_a_square() {
+        let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        assert_eq!(polygon_normal(&square), DVec3::Z);
+    }
+}
