@@ -64,26 +64,31 @@ impl Cut {
         }
     }
 
-    /// The part of the convex polygon `corners` that is kept (Sutherland & Hodgman 1974, one
-    /// plane): empty when all of it is cut away.
+    /// The part of the convex polygon `corners` that is kept: empty when all of it is cut away.
     pub fn clip(&self, corners: &[DVec3]) -> Vec<DVec3> {
-        let mut kept = Vec::with_capacity(corners.len() + 1);
-        for (k, &p) in corners.iter().enumerate() {
-            let q = corners[(k + 1) % corners.len()];
-            let (sp, sq) = (self.signed(p), self.signed(q));
-            if sp <= 0.0 {
-                kept.push(p);
-            }
-            if (sp <= 0.0) != (sq <= 0.0) {
-                let t = sp / (sp - sq);
-                kept.push(p + t * (q - p));
-            }
-        }
-        if kept.len() < 3 {
-            kept.clear();
-        }
-        kept
+        clip_polygon(corners, |p| self.signed(p))
     }
+}
+
+/// The part of the convex polygon `corners` where `signed` is not positive (Sutherland &
+/// Hodgman 1974, one plane; `signed` must be affine): empty when nothing is left.
+pub fn clip_polygon(corners: &[DVec3], signed: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
+    let mut kept = Vec::with_capacity(corners.len() + 1);
+    for (k, &p) in corners.iter().enumerate() {
+        let q = corners[(k + 1) % corners.len()];
+        let (sp, sq) = (signed(p), signed(q));
+        if sp <= 0.0 {
+            kept.push(p);
+        }
+        if (sp <= 0.0) != (sq <= 0.0) {
+            let t = sp / (sp - sq);
+            kept.push(p + t * (q - p));
+        }
+    }
+    if kept.len() < 3 {
+        kept.clear();
+    }
+    kept
 }
 
 #[cfg(test)]

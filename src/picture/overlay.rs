@@ -82,9 +82,13 @@ pub fn draw(
             BLACK.stroke_width(1),
         ))
         .map_err(|e| draw_error(&e))?;
-        let ticks = 5;
-        for k in 0..ticks {
-            let t = k as f64 / (ticks - 1) as f64;
+        // One value only (all particles alike): one tick, in the middle, where its colour is.
+        let ticks: Vec<f64> = if bar.high > bar.low {
+            (0..5).map(|k| f64::from(k) / 4.0).collect()
+        } else {
+            vec![0.5]
+        };
+        for t in ticks {
             let y = y1 - ((y1 - y0) as f64 * t).round() as i32;
             let value = bar.low + t * (bar.high - bar.low);
             root.draw(&PathElement::new([(x1, y), (x1 + 4, y)], BLACK))

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::camera::{Camera, View, Viewport};
 use super::colormap::{fraction, turbo, Rgb};
-use super::cut::Cut;
+use super::cut::{clip_polygon, Cut};
 use super::overlay::{self, ColourBar};
 use super::raster::{Raster, Shading};
 use super::run_files::{FrameChoice, RunFiles, Snapshot};
@@ -166,6 +166,51 @@ fn corners(data: &PolyData, polygon: &[u32]) -> Vec<DVec3> {
     polygon.iter().map(|&v| data.points[v as usize]).collect()
 }
 
+/// The walls' polygons in world coordinates with their wall numbers. A plane wall is written as
+/// one square (a wall number with one polygon of four corners; mesh walls are triangles): the
+/// planes are cut by one another to the region the particles are in, so that a box of planes is
+/// drawn as the box rather than as crossing squares.
+fn wall_polygons(file: &Path, walls: &PolyData) -> Result<Vec<(usize, Vec<DVec3>)>, PictureError> {
+    let numbers: Vec<usize> = match walls.cell_array("wall") {
+        Some(w) if w.len() == walls.polys.len() => w.values.iter().map(|&v| v as usize).collect(),
+        Some(_) => return Err(PictureError::file(file, "has not one 'wall' per polygon")),
+        None => vec![0; walls.polys.len()],
+    };
+    let mut count: HashMap<usize, usize> = HashMap::new();
+    for &n in &numbers {
+        *count.entry(n).or_default() += 1;
+    }
+    let polygons: Vec<(usize, Vec<DVec3>)> = walls
+        .polys
+        .iter()
+        .zip(&numbers)
+        .map(|(p, &n)| (n, corners(walls, p)))
+        .collect();
+    let is_plane = |(n, corners): &(usize, Vec<DVec3>)| count[n] == 1 && corners.len() == 4;
+    // The square's winding gives the plane's normal, which points to the particles' side.
+    let planes: Vec<(DVec3, DVec3)> = polygons
+        .iter()
+        .filter(|p| is_plane(p))
+        .map(|(_, c)| (polygon_normal(c), c[0]))
+        .filter(|(n, _)| *n != DVec3::ZERO)
+        .collect();
+    Ok(polygons
+        .iter()
+        .map(|polygon| {
+            let (n, corners) = polygon;
+            if !is_plane(polygon) {
+                return (*n, corners.clone());
+            }
+            let mut kept = corners.clone();
+            for &(normal, point) in &planes {
+                kept = clip_polygon(&kept, |x| -normal.dot(x - point));
+            }
+            (*n, kept)
+        })
+        .filter(|(_, c)| c.len() >= 3)
+        .collect())
+}
+
 /// Renders one frame. `name` goes into the title.
 pub fn render_snapshot(
     name: &str,
@@ -242,6 +287,10 @@ pub fn render_snapshot(
         width: (width - bar_width) as f64,
         height: (height - title_height) as f64,
     };
+    let walls = match &snap.walls {
+        Some((file, data)) => wall_polygons(file, data)?,
+        None => Vec::new(),
+    };
     let mut bounds: Vec<(DVec3, f64)> = particles
         .points
         .iter()
@@ -288,29 +337,22 @@ pub fn render_snapshot(
         }
     }
 
-    if let Some((file, walls)) = &snap.walls {
-        let wall_ids = walls.cell_array("wall");
-        if wall_ids.is_some_and(|w| w.len() != walls.polys.len()) {
-            return Err(PictureError::file(file, "has not one 'wall' per polygon"));
+    // Cut walls are opaque: what is left of them is behind the particles anyway.
+    let alpha = options.cuts.is_empty().then_some(WALL_ALPHA);
+    for (wall, polygon) in &walls {
+        let mut world = polygon.clone();
+        for cut in &options.cuts {
+            world = cut.clip(&world);
         }
-        // Cut walls are opaque: what is left of them is behind the particles anyway.
-        let alpha = options.cuts.is_empty().then_some(WALL_ALPHA);
-        for (k, polygon) in walls.polys.iter().enumerate() {
-            let mut world = corners(walls, polygon);
-            for cut in &options.cuts {
-                world = cut.clip(&world);
-            }
-            if world.len() < 3 {
-                continue;
-            }
-            let wall = wall_ids.map_or(0, |w| w.values[k] as usize);
-            let colour = shading.shade(
-                WALL_TINTS[wall % WALL_TINTS.len()],
-                fine.to_view(polygon_normal(&world)),
-            );
-            let screen: Vec<DVec3> = world.iter().map(|&p| fine.project(p)).collect();
-            raster.polygon(&screen, colour, alpha);
+        if world.len() < 3 {
+            continue;
         }
+        let colour = shading.shade(
+            WALL_TINTS[wall % WALL_TINTS.len()],
+            fine.to_view(polygon_normal(&world)),
+        );
+        let screen: Vec<DVec3> = world.iter().map(|&p| fine.project(p)).collect();
+        raster.polygon(&screen, colour, alpha);
     }
 
     if options.force_network {
@@ -469,6 +511,52 @@ mod tests {
             output_path(dir, Some(Path::new("pics")), 3, true),
             Path::new("pics/render_000003.png")
         );
+    }
+
+    #[test]
+    fn plane_squares_cut_each_other_to_the_particles_side() {
+        use crate::io::vtk_read::CellList;
+        // A floor (normal +z) and a side wall at x = 0 (normal +x), both 2 m squares around the
+        // origin, as the run writes them; a mesh-wall triangle stays whole.
+        let floor = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(x, y)| DVec3::new(x, y, 0.0));
+        let side = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(y, z)| DVec3::new(0.0, y, z));
+        let triangle = [
+            DVec3::new(-5.0, 0.0, -5.0),
+            DVec3::new(-4.0, 0.0, -5.0),
+            DVec3::Z,
+        ];
+        let points: Vec<DVec3> = floor
+            .iter()
+            .chain(&side)
+            .chain(&triangle)
+            .copied()
+            .collect();
+        let walls = PolyData {
+            points,
+            polys: CellList {
+                connectivity: (0..11).collect(),
+                offsets: vec![4, 8, 11],
+            },
+            cell_data: vec![crate::io::vtk_read::DataArray {
+                name: "wall".into(),
+                components: 1,
+                values: vec![0.0, 1.0, 2.0],
+            }],
+            ..PolyData::default()
+        };
+        let polygons = wall_polygons(Path::new("walls.vtp"), &walls).unwrap();
+        assert_eq!(polygons.len(), 3);
+        assert!(
+            polygons[0].1.iter().all(|p| p.x >= 0.0),
+            "floor kept on the +x side"
+        );
+        assert!(
+            polygons[1].1.iter().all(|p| p.z >= 0.0),
+            "side kept above the floor"
+        );
+        assert_eq!(polygons[2].1, triangle);
     }
 
     #[test]
