@@ -1,6 +1,7 @@
 //! The font of every label: DejaVu Sans, cut down to Latin, Greek and a few signs (see
 //! assets/fonts), compiled in, so that pictures are made the same on a cluster node without fonts
-//! as on a desktop (plotters' own `ttf` feature would need the system's font libraries).
+//! as on a desktop (plotters' own `ttf` feature would need the system's font libraries). plotters
+//! measures text with it (registered here); `text` draws it.
 
 use std::sync::Once;
 
@@ -9,7 +10,7 @@ use plotters::style::FontStyle;
 /// The font family name the pictures ask plotters for.
 pub const FAMILY: &str = "sans-serif";
 
-const DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
+pub(crate) const DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
 
 /// Registers the font with plotters, once per process; every drawing function calls it first.
 pub fn register() {

@@ -5,7 +5,7 @@
 //! fitted to the scene), `raster` (z-buffer, Lambert shading, spheres traced per pixel, polygons,
 //! lines), `colormap`, `cut` (half-spaces that cut walls away), `run_files` (which files of a run
 //! folder make a frame), `overlay` (title and colour bar), `render` (one frame from all that).
-//! Text and plots go through `plotters` with an embedded font (`font`); PNG files are written by
+//! Text and plots go through `plotters` with an embedded font (`font`), text drawn by `text`; PNG files are written by
 //! `png`, atomically like every output of polydem.
 
 pub mod camera;
@@ -18,6 +18,7 @@ pub mod png;
 pub mod raster;
 pub mod render;
 pub mod run_files;
+pub mod text;
 
 use std::path::PathBuf;
 

@@ -6,6 +6,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::colormap::{turbo, Rgb};
 use super::font::{register, FAMILY};
+use super::text::TextBackend;
 use super::PictureError;
 
 /// The colour bar: which field, over which range.
@@ -41,7 +42,11 @@ pub fn draw(
     let draw_error = |e: &dyn std::fmt::Display| PictureError::Draw(e.to_string());
     let (title_height, bar_width) = margins(width, height);
     let size = font_size(height);
-    let root = BitMapBackend::with_buffer(rgb, (width as u32, height as u32)).into_drawing_area();
+    let root = TextBackend::new(BitMapBackend::with_buffer(
+        rgb,
+        (width as u32, height as u32),
+    ))
+    .into_drawing_area();
     let text = |px: f64, pos: Pos| {
         TextStyle::from((FAMILY, px).into_font())
             .color(&BLACK)

@@ -10,6 +10,7 @@ use plotters::prelude::*;
 
 use super::font::{register, FAMILY};
 use super::overlay::format_value;
+use super::text::TextBackend;
 use super::{png, PictureError};
 use crate::io::csv_read::{read_table, Table};
 
@@ -40,7 +41,7 @@ struct Panel {
     lines: Vec<Line>,
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+type Area<'a> = DrawingArea<TextBackend<BitMapBackend<'a>>, Shift>;
 
 fn draw_error(e: impl std::fmt::Display) -> PictureError {
     PictureError::Draw(e.to_string())
@@ -121,8 +122,8 @@ fn write_panels(path: &Path, panels: &[Panel], columns: usize) -> Result<(), Pic
     let height = 380 * rows;
     let mut rgb = vec![255u8; 3 * width * height];
     {
-        let root =
-            BitMapBackend::with_buffer(&mut rgb, (width as u32, height as u32)).into_drawing_area();
+        let bitmap = BitMapBackend::with_buffer(&mut rgb, (width as u32, height as u32));
+        let root = TextBackend::new(bitmap).into_drawing_area();
         root.fill(&WHITE).map_err(draw_error)?;
         for (area, panel) in root.split_evenly((rows, columns)).iter().zip(panels) {
             draw_panel(area, panel)?;

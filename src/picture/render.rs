@@ -309,6 +309,13 @@ pub fn render_snapshot(
     let camera = Camera::fit(options.view, bounds.into_iter(), viewport);
     let fine = camera.scaled(SAMPLES as f64);
     let shading = Shading::default();
+    // Walls are large and often face away from the light: more ambient light and no highlight
+    // keep their far sides from turning black.
+    let wall_shading = Shading {
+        ambient: 0.6,
+        specular: 0.0,
+        ..shading
+    };
     let mut raster = Raster::new(width * SAMPLES, height * SAMPLES, BACKGROUND);
 
     let colour_of = |i: usize| -> Rgb {
@@ -347,7 +354,7 @@ pub fn render_snapshot(
         if world.len() < 3 {
             continue;
         }
-        let colour = shading.shade(
+        let colour = wall_shading.shade(
             WALL_TINTS[wall % WALL_TINTS.len()],
             fine.to_view(polygon_normal(&world)),
         );
