@@ -329,6 +329,27 @@ fn a_short_run_renders_and_plots_from_the_command_line() {
     );
     assert_eq!(png_size(&series.join("render_000001.png")), (160, 120));
 
+    let gif = dir.path().join("run.gif");
+    run(&[
+        "render",
+        out_str,
+        "--frame",
+        "all",
+        "--size",
+        "160x120",
+        "--out",
+        gif.to_str().unwrap(),
+    ]);
+    let mut decoder = gif::DecodeOptions::new()
+        .read_info(std::fs::File::open(&gif).unwrap())
+        .unwrap();
+    let mut gif_frames = 0;
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!((frame.width, frame.height), (160, 120));
+        gif_frames += 1;
+    }
+    assert_eq!(gif_frames, frames);
+
     let plots = dir.path().join("plots");
     run(&["plot", out_str, "--out", plots.to_str().unwrap()]);
     for name in ["energy.png", "contacts.png", "wall_forces.png"] {

@@ -69,9 +69,13 @@ enum Command {
         /// force_network = true).
         #[arg(long)]
         force_network: bool,
-        /// A .png file, or a folder for numbered files [default: DIR/render_NNNNNN.png].
+        /// A .png file, a folder for numbered files, or a .gif file for an animation of the
+        /// frames [default: DIR/render_NNNNNN.png].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Frames per second of an animated GIF.
+        #[arg(long, default_value_t = 10.0)]
+        fps: f64,
     },
     /// Plot a run's time series (energy and ledger closure, contacts, flow, wall forces) as PNG.
     Plot {
@@ -169,6 +173,7 @@ fn main() -> ExitCode {
             size,
             force_network,
             out,
+            fps,
         } => {
             let options = RenderOptions {
                 view,
@@ -178,6 +183,7 @@ fn main() -> ExitCode {
                 width: size.0,
                 height: size.1,
                 force_network,
+                fps,
             };
             report_written(polydem::picture::render::render_run(
                 &dir,

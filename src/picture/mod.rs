@@ -6,8 +6,10 @@
 //! lines), `colormap`, `cut` (half-spaces that cut walls away), `run_files` (which files of a run
 //! folder make a frame), `overlay` (title and colour bar), `render` (one frame from all that).
 //! Text and plots go through `plotters` with an embedded font (`font`), text drawn by `text`; PNG files are written by
-//! `png`, atomically like every output of polydem.
+//! `png`, atomically like every output of polydem; a series can also go into an animated GIF
+//! (`animation`).
 
+pub mod animation;
 pub mod camera;
 pub mod colormap;
 pub mod cut;

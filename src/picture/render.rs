@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::animation::Animation;
 use super::camera::{Camera, View, Viewport};
 use super::colormap::{fraction, turbo, Rgb};
 use super::cut::{clip_polygon, Cut};
@@ -43,6 +44,8 @@ pub struct RenderOptions {
     pub height: usize,
     /// Draw the contacts as lines scaled and coloured by their normal force, the particles pale.
     pub force_network: bool,
+    /// Frames per second of an animated GIF (`--out *.gif`).
+    pub fps: f64,
 }
 
 impl Default for RenderOptions {
@@ -55,6 +58,7 @@ impl Default for RenderOptions {
             width: 1200,
             height: 900,
             force_network: false,
+            fps: 10.0,
         }
     }
 }
@@ -420,8 +424,9 @@ fn output_path(dir: &Path, out: Option<&Path>, index: usize, series: bool) -> Pa
     }
 }
 
-/// Renders the chosen frames of the run in `dir` to PNG files; returns the files written.
-/// A series shares one colour range (that of all its frames) so that colours compare.
+/// Renders the chosen frames of the run in `dir` to PNG files, or into one animated GIF when
+/// `out` names a `.gif` file; returns the files written. A series shares one colour range (that
+/// of all its frames) so that colours compare.
 pub fn render_run(
     dir: &Path,
     frames: FrameChoice,
@@ -452,6 +457,31 @@ pub fn render_run(
         options.range = (low <= high).then_some((low, high));
     }
     let name = run.name();
+    let gif = out.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")));
+    if let Some(path) = gif {
+        if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .map_err(|e| PictureError::file(parent, e.to_string()))?;
+        }
+        let mut animation = None;
+        for &i in &indices {
+            let picture = render_snapshot(&name, &run.load(i, options.force_network)?, &options)?;
+            let animation = match &mut animation {
+                Some(a) => a,
+                None => animation.insert(Animation::new(
+                    path,
+                    picture.width,
+                    picture.height,
+                    options.fps,
+                )?),
+            };
+            animation.push(&picture.rgb)?;
+        }
+        return match animation {
+            Some(a) => Ok(vec![a.finish()?]),
+            None => Ok(Vec::new()),
+        };
+    }
     let mut written = Vec::new();
     for &i in &indices {
         let snap = run.load(i, options.force_network)?;
