@@ -370,11 +370,13 @@ pub fn render_snapshot(
         if let Some((_, contacts)) = &snap.contacts {
             raster.fade(BACKGROUND, 0.35);
             // Strongest last, so they lie on top.
-            let mut order: Vec<usize> = (0..forces.len()).collect();
-            order.sort_by(|&a, &b| forces[a].total_cmp(&forces[b]));
+            // Cell data runs over vertex cells first, then lines.
+            let line_forces = forces.get(contacts.num_verts..).unwrap_or_default();
             let lines: Vec<&[u32]> = contacts.lines.iter().collect();
+            let mut order: Vec<usize> = (0..lines.len().min(line_forces.len())).collect();
+            order.sort_by(|&a, &b| line_forces[a].total_cmp(&line_forces[b]));
             for k in order {
-                let t = fraction(forces[k], low, high);
+                let t = fraction(line_forces[k], low, high);
                 let width_px = (1.0 + 5.0 * t) * SAMPLES as f64;
                 let line = lines[k];
                 for pair in line.windows(2) {
