@@ -215,6 +215,31 @@ impl Raster {
         }
     }
 
+    /// Darkens by `amount` every pixel that lies more than `step` [m] in front of a neighbour
+    /// (or in front of the background): an outline round each body, so that touching bodies of
+    /// one colour stay apart. Faces of one body meet without a step and get no line.
+    pub fn outline(&mut self, step: f32, amount: f32) {
+        let (w, h) = (self.width, self.height);
+        let mut edge = vec![false; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let i = y * w + x;
+                let d = self.depth[i];
+                if !d.is_finite() {
+                    continue;
+                }
+                let farther = |j: usize| self.depth[j] - d > step;
+                edge[i] = (x > 0 && farther(i - 1))
+                    || (x + 1 < w && farther(i + 1))
+                    || (y > 0 && farther(i - w))
+                    || (y + 1 < h && farther(i + w));
+            }
+        }
+        for (c, _) in self.colour.iter_mut().zip(&edge).filter(|(_, &e)| e) {
+            *c = c.map(|v| v * (1.0 - amount));
+        }
+    }
+
     /// Fades every pixel towards `colour` by `amount` (0: unchanged, 1: all `colour`).
     pub fn fade(&mut self, colour: Rgb, amount: f32) {
         for c in &mut self.colour {
@@ -342,6 +367,27 @@ mod tests {
         assert_eq!(r.pixel(2, 2), RED);
         r.polygon(&wall(0.0), BLUE, Some(0.5));
         assert_eq!(r.pixel(2, 2), [0.5, 0.0, 0.5]);
+    }
+
+    #[test]
+    fn outlines_follow_depth_steps_only() {
+        let flat = Shading {
+            ambient: 1.0,
+            specular: 0.0,
+            ..Shading::default()
+        };
+        let mut r = Raster::new(40, 20, WHITE);
+        // Two touching spheres of one colour, the right one farther back.
+        r.sphere(DVec3::new(10.0, 10.0, 0.0), 8.0, 8.0, RED, &flat);
+        r.sphere(DVec3::new(26.0, 10.0, 20.0), 8.0, 8.0, RED, &flat);
+        r.outline(2.0, 0.5);
+        // The rim against the background and the left sphere's edge over the right one are
+        // darkened; the middle of each sphere is not.
+        assert_eq!(r.pixel(2, 10), [0.5, 0.0, 0.0]);
+        assert_eq!(r.pixel(17, 10), [0.5, 0.0, 0.0]);
+        assert_eq!(r.pixel(10, 10), RED);
+        assert_eq!(r.pixel(26, 10), RED);
+        assert_eq!(r.pixel(0, 0), WHITE);
     }
 
     #[test]

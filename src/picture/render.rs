@@ -151,6 +151,20 @@ pub fn value_range(values: &[f64]) -> (f64, f64) {
     }
 }
 
+/// The median of the finite positive values, if there is one.
+fn median(values: &[f64]) -> Option<f64> {
+    let mut v: Vec<f64> = values
+        .iter()
+        .copied()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .collect();
+    if v.is_empty() {
+        return None;
+    }
+    let middle = v.len() / 2;
+    Some(*v.select_nth_unstable_by(middle, f64::total_cmp).1)
+}
+
 /// The unit normal of a polygon by Newell's method, which is exact for planar polygons and
 /// does not break on a few collinear corners.
 fn polygon_normal(corners: &[DVec3]) -> DVec3 {
@@ -346,6 +360,12 @@ pub fn render_snapshot(
             let screen: Vec<DVec3> = world.iter().map(|&p| fine.project(p)).collect();
             raster.polygon(&screen, colour, None);
         }
+    }
+
+    // Outlines where the depth jumps by more than a fraction of a typical body: round every
+    // body against the background and against the bodies behind it.
+    if let Some(radius) = median(radii) {
+        raster.outline((0.3 * radius) as f32, 0.45);
     }
 
     // Cut walls are opaque: what is left of them is behind the particles anyway.
