@@ -224,7 +224,10 @@ fn parse_vtp(bytes: &[u8]) -> Result<PolyData, String> {
     if num_strips > 0 {
         return Err("triangle strips cannot be read".into());
     }
-    let num_cells = num_verts + num_lines + num_polys;
+    let num_cells = num_verts
+        .checked_add(num_lines)
+        .and_then(|n| n.checked_add(num_polys))
+        .ok_or("the piece's cell counts are too large")?;
 
     let section = |name: &str| piece.children().find(|n| n.has_tag_name(name));
     let arrays_in =
@@ -344,7 +347,7 @@ fn read_array(
         })
         .collect();
     if let Some(tuples) = tuples {
-        if values.len() != tuples * components {
+        if Some(values.len()) != tuples.checked_mul(components) {
             return Err(format!(
                 "array \"{name}\" has {} values but the piece needs {tuples} × {components}",
                 values.len()
@@ -551,6 +554,17 @@ mod tests {
             let err = read_vtp(&path).expect_err(what);
             assert_eq!(err.path, path, "{what}");
             assert!(err.to_string().contains("broken.vtp"), "{what}: {err}");
+        }
+        // Any single byte of the header changed to any of a few troublesome ones: an error or
+        // a file that still reads, never a panic.
+        let path = dir.path().join("flipped.vtp");
+        for at in 0..header_end {
+            for byte in [b'9', b'0', b'"', b'<', b'_', 0xff] {
+                let mut b = bytes.clone();
+                b[at] = byte;
+                std::fs::write(&path, &b).unwrap();
+                let _ = read_vtp(&path);
+            }
         }
         let err = read_vtp(&dir.path().join("missing.vtp")).unwrap_err();
         assert!(err.to_string().contains("missing.vtp"), "{err}");

@@ -326,3 +326,99 @@ pub fn plot_run(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PictureError> {
     }
     Ok(written)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::output::ENERGY_COLUMNS;
+    use crate::io::CsvSeries;
+
+    /// A run folder with every CSV series a run can write, ten rows each.
+    fn write_series(dir: &Path) {
+        let mut energy_columns = ENERGY_COLUMNS.to_vec();
+        energy_columns.push("packing_fraction");
+        let mut energy = CsvSeries::new(dir.join("energy.csv"), &energy_columns);
+        let mut flow = CsvSeries::new(
+            dir.join("flow.csv"),
+            &["time", "outlet_mass", "outlet_bodies", "outlet_rate"],
+        );
+        let mut walls = CsvSeries::new(
+            dir.join("wall_forces.csv"),
+            &[
+                "time", "wall0_fx", "wall0_fy", "wall0_fz", "wall0_tx", "wall0_ty", "wall0_tz",
+            ],
+        );
+        for k in 0..10 {
+            let t = 0.1 * k as f64;
+            let mut row = vec![t, 1.0 / (1.0 + t), 0.1, -t, 0.0, t, 0.0, 0.0, 0.0, 1.0];
+            row.extend([(100 * k) as f64, 50.0, 0.5 + 0.01 * t]);
+            energy.push(&row).unwrap();
+            if k > 0 {
+                flow.push(&[t, 0.2 * t, (3 * k) as f64, 0.2]).unwrap();
+                walls
+                    .push(&[t, 0.0, 1.0, -9.81 * t, 0.0, 0.0, 0.5])
+                    .unwrap();
+            }
+        }
+    }
+
+    /// How many pixels of a PNG are not white: a plot with axes, labels and lines has many.
+    fn ink(path: &Path) -> (u32, u32, usize) {
+        let image = image::open(path).unwrap().to_rgb8();
+        let ink = image.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+        (image.width(), image.height(), ink)
+    }
+
+    #[test]
+    fn every_series_is_plotted() {
+        let dir = tempfile::tempdir().unwrap();
+        write_series(dir.path());
+        let out = dir.path().join("plots");
+        let written = plot_run(dir.path(), &out).unwrap();
+        let names: Vec<String> = written
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "energy.png",
+                "contacts.png",
+                "packing.png",
+                "flow.png",
+                "wall_forces.png"
+            ]
+        );
+        for path in &written {
+            let (w, h, ink) = ink(path);
+            assert!(w >= 1000 && h >= 380, "{}: {w}x{h}", path.display());
+            assert!(ink > 5000, "{}: {ink} pixels of ink", path.display());
+        }
+        // Two panels under each other; one wall gives a row of two.
+        assert_eq!(ink(&out.join("energy.png")).1, 760);
+        assert_eq!(ink(&out.join("wall_forces.png")).0, 1280);
+    }
+
+    #[test]
+    fn missing_and_broken_series_are_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let err = plot_run(dir.path(), dir.path()).unwrap_err().to_string();
+        assert!(err.contains("energy.csv"), "{err}");
+        write_series(dir.path());
+        std::fs::write(dir.path().join("flow.csv"), "time,outlet_mass\n0.1,oops\n").unwrap();
+        let err = plot_run(dir.path(), dir.path()).unwrap_err().to_string();
+        assert!(err.contains("flow.csv") && err.contains("line 2"), "{err}");
+    }
+
+    #[test]
+    fn a_constant_or_empty_series_still_gets_a_range() {
+        let flat = Line {
+            label: "flat".into(),
+            points: vec![(0.0, 2.0), (1.0, 2.0)],
+        };
+        let ((x0, x1), (y0, y1)) = ranges(&[flat]);
+        assert!(x0 < x1 && y0 < 2.0 && y1 > 2.0);
+        let ((x0, x1), (y0, y1)) = ranges(&[]);
+        assert!(x0 < x1 && y0 < y1);
+    }
+}
