@@ -119,7 +119,7 @@ impl Camera {
         }
     }
 
-    /// Pixel x, pixel y (down) and depth [m] (larger is farther) of a world point.
+    /// Pixel x, pixel y (down) and depth in metres (larger is farther) of a world point.
     pub fn project(&self, p: DVec3) -> DVec3 {
         let v = &self.viewport;
         DVec3::new(

@@ -86,8 +86,8 @@ impl Raster {
         (first <= last && high - 0.5 >= 0.0).then_some((first, last))
     }
 
-    /// A sphere whose centre projects to pixel `(c.x, c.y)` at depth `c.z` [m], with radius
-    /// `radius_px` on screen and `radius` in depth units [m].
+    /// A sphere whose centre projects to pixel `(c.x, c.y)` at depth `c.z` (metres), with radius
+    /// `radius_px` on screen and `radius` in metres.
     pub fn sphere(
         &mut self,
         c: DVec3,
@@ -215,7 +215,7 @@ impl Raster {
         }
     }
 
-    /// Darkens by `amount` every pixel that lies more than `step` [m] in front of a neighbour
+    /// Darkens by `amount` every pixel that lies more than `step` metres in front of a neighbour
     /// (or in front of the background): an outline round each body, so that touching bodies of
     /// one colour stay apart. Faces of one body meet without a step and get no line.
     pub fn outline(&mut self, step: f32, amount: f32) {
