@@ -364,3 +364,44 @@ fn a_short_run_renders_and_plots_from_the_command_line() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("particles.pvd"));
 }
+
+#[test]
+fn cuts_remove_walls_and_with_cut_bodies_the_bodies_too() {
+    let dir = tempfile::tempdir().unwrap();
+    write_scene(dir.path(), DQuat::IDENTITY, true);
+    let base = RenderOptions {
+        view: View::Top,
+        colour: "id".into(),
+        width: 400,
+        height: 300,
+        ..RenderOptions::default()
+    };
+    let floor_point = DVec3::new(-2.0, 2.0, -0.6);
+    let whole = render(dir.path(), &base);
+    assert_ne!(pixel_at(&whole, floor_point), [255; 3], "the floor shows");
+    let cut = RenderOptions {
+        cuts: vec!["x<0".parse().unwrap()],
+        ..base.clone()
+    };
+    let p = render(dir.path(), &cut);
+    assert_eq!(p.camera, whole.camera, "a cut does not move the camera");
+    assert_eq!(
+        pixel_at(&p, floor_point),
+        [255; 3],
+        "the floor is cut away at x < 0"
+    );
+    let [r, g, b] = pixel_at(&p, SPHERE);
+    assert!(b > r + 60 && b > g, "the sphere stays: {r} {g} {b}");
+    let sections = RenderOptions {
+        cut_bodies: true,
+        ..cut
+    };
+    let p = render(dir.path(), &sections);
+    assert_eq!(
+        pixel_at(&p, SPHERE),
+        [255; 3],
+        "the sphere's centre is at x < 0"
+    );
+    let [r, _, b] = pixel_at(&p, CUBE);
+    assert!(r > b + 60, "the cube at x > 0 stays");
+}

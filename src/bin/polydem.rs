@@ -48,20 +48,24 @@ enum Command {
         /// Frame number (0 is the first), last, or all (a numbered series).
         #[arg(long, default_value = "last")]
         frame: FrameChoice,
-        /// Where the camera looks from: iso, front (from −y), top (from +z) or side (from +x).
-        #[arg(long, default_value = "iso")]
+        /// Where the camera looks from: iso, front (from −y), top (from +z), side (from +x), or a
+        /// direction x,y,z from the scene towards the viewer (e.g. 1,-2,1).
+        #[arg(long, default_value = "iso", allow_hyphen_values = true)]
         view: View,
         /// Point data of particles_*.vtp to colour by (vectors by their length), e.g. speed,
         /// id, material, radius, angular_velocity.
         #[arg(long, default_value = "speed")]
         color: String,
         /// Colour range LOW:HIGH [default: the frame's range; a series' over all its frames].
-        #[arg(long, value_parser = polydem::picture::render::parse_range)]
+        #[arg(long, value_parser = polydem::picture::render::parse_range, allow_hyphen_values = true)]
         range: Option<(f64, f64)>,
         /// Cut the walls away in a half-space, e.g. y<0 or x>0.1 (axis, < or >, metres); the
         /// rest of the walls is drawn opaque. May be given more than once.
         #[arg(long)]
         cut: Vec<Cut>,
+        /// The cuts also remove the bodies whose centre lies in them (a section through a bed).
+        #[arg(long)]
+        cut_bodies: bool,
         /// Picture size in pixels.
         #[arg(long, default_value = "1200x900", value_parser = polydem::picture::render::parse_size)]
         size: (usize, usize),
@@ -170,6 +174,7 @@ fn main() -> ExitCode {
             color,
             range,
             cut,
+            cut_bodies,
             size,
             force_network,
             out,
@@ -180,6 +185,7 @@ fn main() -> ExitCode {
                 colour: color,
                 range,
                 cuts: cut,
+                cut_bodies,
                 width: size.0,
                 height: size.1,
                 force_network,

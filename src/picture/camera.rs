@@ -10,7 +10,7 @@ use std::str::FromStr;
 use glam::{DVec2, DVec3};
 
 /// Where the camera looks from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum View {
     /// From the front, right and above (x to the right, y away from the viewer, z up).
     #[default]
@@ -21,6 +21,8 @@ pub enum View {
     Top,
     /// From +x: y to the right, z up.
     Side,
+    /// From the direction `x,y,z` (a vector from the scene towards the viewer), z up.
+    From(DVec3),
 }
 
 impl FromStr for View {
@@ -32,9 +34,25 @@ impl FromStr for View {
             "front" => Ok(View::Front),
             "top" => Ok(View::Top),
             "side" => Ok(View::Side),
-            other => Err(format!(
-                "unknown view '{other}': use iso, front, top or side"
-            )),
+            other => {
+                let bad = || {
+                    format!(
+                        "unknown view '{other}': use iso, front, top, side, or a direction \
+                         x,y,z towards the viewer (e.g. 1,-2,1)"
+                    )
+                };
+                let parts: Vec<f64> = other
+                    .split(',')
+                    .map(|p| p.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| bad())?;
+                match parts[..] {
+                    [x, y, z] if DVec3::new(x, y, z).length() > 0.0 => {
+                        Ok(View::From(DVec3::new(x, y, z).normalize()))
+                    }
+                    _ => Err(bad()),
+                }
+            }
         }
     }
 }
@@ -49,6 +67,7 @@ impl View {
             View::Front => DVec3::NEG_Y,
             View::Top => DVec3::Z,
             View::Side => DVec3::X,
+            View::From(d) => d,
         }
     }
 }
@@ -189,7 +208,14 @@ mod tests {
 
     #[test]
     fn every_view_is_a_right_handed_orthonormal_frame() {
-        for view in [View::Iso, View::Front, View::Top, View::Side] {
+        let views = [
+            View::Iso,
+            View::Front,
+            View::Top,
+            View::Side,
+            View::From(DVec3::NEG_Z),
+        ];
+        for view in views {
             let c = Camera::fit(view, std::iter::empty(), PORT);
             assert!((c.right.cross(c.up) - c.towards_viewer).length() < 1e-12);
             assert!((c.right.length() - 1.0).abs() < 1e-12);
@@ -203,5 +229,8 @@ mod tests {
     fn views_parse_and_unknown_ones_are_named() {
         assert_eq!("side".parse::<View>(), Ok(View::Side));
         assert!("diagonal".parse::<View>().unwrap_err().contains("diagonal"));
+        assert_eq!("0, -2, 0".parse::<View>(), Ok(View::From(DVec3::NEG_Y)));
+        assert!("0,0,0".parse::<View>().is_err());
+        assert!("1,2".parse::<View>().is_err());
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! Syntax: an axis, `<` or `>`, and a coordinate in metres, e.g. `y<0` (cut away the walls on
 //! the viewer's side of a front or iso view) or `x>0.1`. Wall polygons are clipped exactly at
-//! the plane; particles are never cut.
+//! the plane; bodies are kept, or with `--cut-bodies` removed whole when their centre lies in the
+//! half-space (a section through a bed).
 
 use std::str::FromStr;
 
@@ -64,6 +65,11 @@ impl Cut {
         }
     }
 
+    /// Whether `p` lies in the half-space that is cut away.
+    pub fn removes(&self, p: DVec3) -> bool {
+        self.signed(p) > 0.0
+    }
+
     /// The part of the convex polygon `corners` that is kept: empty when all of it is cut away.
     pub fn clip(&self, corners: &[DVec3]) -> Vec<DVec3> {
         clip_polygon(corners, |p| self.signed(p))
@@ -122,5 +128,6 @@ mod tests {
         assert!(kept.iter().any(|p| p.x == 0.25));
         assert!("x<2".parse::<Cut>().unwrap().clip(&square).is_empty());
         assert_eq!("x>2".parse::<Cut>().unwrap().clip(&square), square);
+        assert!(cut.removes(DVec3::X) && !cut.removes(DVec3::ZERO));
     }
 }

@@ -40,6 +40,8 @@ pub struct RenderOptions {
     /// Fixed colour range; by default the range of the frame (of all frames for a series).
     pub range: Option<(f64, f64)>,
     pub cuts: Vec<Cut>,
+    /// The cuts also remove the bodies whose centre lies in them (a section through a bed).
+    pub cut_bodies: bool,
     pub width: usize,
     pub height: usize,
     /// Draw the contacts as lines scaled and coloured by their normal force, the particles pale.
@@ -55,6 +57,7 @@ impl Default for RenderOptions {
             colour: "speed".into(),
             range: None,
             cuts: Vec::new(),
+            cut_bodies: false,
             width: 1200,
             height: 900,
             force_network: false,
@@ -343,8 +346,11 @@ pub fn render_snapshot(
             turbo(fraction(values[i], low, high))
         }
     };
+    let cut_away = |i: usize| {
+        options.cut_bodies && options.cuts.iter().any(|c| c.removes(particles.points[i]))
+    };
     for (i, (&p, &r)) in particles.points.iter().zip(radii).enumerate() {
-        if polyhedral.contains(&(ids[i] as u64)) {
+        if polyhedral.contains(&(ids[i] as u64)) || cut_away(i) {
             continue;
         }
         let c = fine.project(p);
@@ -352,7 +358,7 @@ pub fn render_snapshot(
     }
     if let Some((data, face_ids)) = &polyhedra {
         for (polygon, &id) in data.polys.iter().zip(face_ids) {
-            let Some(&i) = index_of_id.get(&(id as u64)) else {
+            let Some(&i) = index_of_id.get(&(id as u64)).filter(|&&i| !cut_away(i)) else {
                 continue;
             };
             let world = corners(data, polygon);
