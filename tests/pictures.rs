@@ -61,7 +61,7 @@ fn write_scene(dir: &Path, q: DQuat, sphere: bool) {
         radii: &radii,
         velocities: &velocities,
         angular_velocities: &zeros,
-        materials: &vec![0; n],
+        materials: &ids.iter().map(|&id| id as u32).collect::<Vec<_>>(),
         orientations: &vec![q; n],
     };
     let time = 0.25;
@@ -404,4 +404,22 @@ fn cuts_remove_walls_and_with_cut_bodies_the_bodies_too() {
     );
     let [r, _, b] = pixel_at(&p, CUBE);
     assert!(r > b + 60, "the cube at x > 0 stays");
+}
+
+#[test]
+fn materials_are_categories_with_a_colour_each() {
+    let dir = tempfile::tempdir().unwrap();
+    write_scene(dir.path(), DQuat::IDENTITY, true);
+    let options = RenderOptions {
+        colour: "material".into(),
+        width: 400,
+        height: 300,
+        ..RenderOptions::default()
+    };
+    let p = render(dir.path(), &options);
+    // Material 0 blue, material 1 orange (not the scale's red: green well above blue).
+    let [r, g, b] = pixel_at(&p, SPHERE);
+    assert!(b > r + 40 && b > g, "sphere {r} {g} {b}");
+    let [r, g, b] = pixel_at(&p, CUBE);
+    assert!(r > g && g > b + 30, "cube {r} {g} {b}");
 }

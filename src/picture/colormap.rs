@@ -42,6 +42,24 @@ pub fn turbo(t: f64) -> Rgb {
     ]
 }
 
+/// Ten distinct colours for categories (matplotlib's tab10), by number: category `k` keeps its
+/// colour in every frame whatever other categories there are.
+pub fn category(k: usize) -> Rgb {
+    const TAB10: [[u8; 3]; 10] = [
+        [31, 119, 180],
+        [255, 127, 14],
+        [44, 160, 44],
+        [214, 39, 40],
+        [148, 103, 189],
+        [140, 86, 75],
+        [227, 119, 194],
+        [127, 127, 127],
+        [188, 189, 34],
+        [23, 190, 207],
+    ];
+    TAB10[k % TAB10.len()].map(|c| f32::from(c) / 255.0)
+}
+
 /// Where `value` lies in `[low, high]`, as a fraction; the middle for an empty range, so a
 /// field with one value shows in one colour rather than failing.
 pub fn fraction(value: f64, low: f64, high: f64) -> f64 {

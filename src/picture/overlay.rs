@@ -4,7 +4,7 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::colormap::{turbo, Rgb};
+use super::colormap::{category, turbo, Rgb};
 use super::font::{register, FAMILY};
 use super::text::TextBackend;
 use super::PictureError;
@@ -16,6 +16,9 @@ pub struct ColourBar {
     pub label: String,
     pub low: f64,
     pub high: f64,
+    /// For a field of categories (material, shape): the values present, each shown as a swatch
+    /// of its colour instead of the continuous scale.
+    pub categories: Vec<u32>,
 }
 
 /// Pixels kept free for the title at the top and the colour bar at the right of a picture
@@ -73,6 +76,27 @@ pub fn draw(
             ),
         )
         .map_err(|e| draw_error(&e))?;
+        if !bar.categories.is_empty() {
+            let n = bar.categories.len() as f64;
+            let step = (f64::from(y1 - y0) / n).min(2.0 * size);
+            for (k, &c) in bar.categories.iter().enumerate() {
+                let top = y0 + (k as f64 * step) as i32;
+                let bottom = top + (0.8 * step) as i32;
+                let [r, g, b] = to_u8(category(c as usize));
+                root.draw(&Rectangle::new(
+                    [(x0, top), (x1, bottom)],
+                    RGBColor(r, g, b).filled(),
+                ))
+                .map_err(|e| draw_error(&e))?;
+                root.draw_text(
+                    &c.to_string(),
+                    &text(size * 0.8, Pos::new(HPos::Left, VPos::Center)),
+                    (x1 + 7, (top + bottom) / 2),
+                )
+                .map_err(|e| draw_error(&e))?;
+            }
+            return root.present().map_err(|e| draw_error(&e));
+        }
         for y in y0..=y1 {
             let t = f64::from(y1 - y) / f64::from((y1 - y0).max(1));
             let [r, g, b] = to_u8(turbo(t));
@@ -153,6 +177,7 @@ mod tests {
             label: "speed [m/s]".into(),
             low: 0.0,
             high: 2.0,
+            categories: Vec::new(),
         };
         draw(&mut rgb, w, h, "test t = 1 s", Some(&bar)).unwrap();
         let (title, bar_width) = margins(w, h);

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::animation::Animation;
 use super::camera::{Camera, View, Viewport};
-use super::colormap::{fraction, turbo, Rgb};
+use super::colormap::{category, fraction, turbo, Rgb};
 use super::cut::{clip_polygon, Cut};
 use super::overlay::{self, ColourBar};
 use super::raster::{Raster, Shading};
@@ -339,9 +339,25 @@ pub fn render_snapshot(
     };
     let mut raster = Raster::new(width * SAMPLES, height * SAMPLES, BACKGROUND);
 
+    // Materials and shapes are categories: a colour each, not a scale.
+    let categorical =
+        !options.force_network && matches!(options.colour.as_str(), "material" | "shape");
+    let mut categories: Vec<u32> = if categorical {
+        values
+            .iter()
+            .filter(|v| v.is_finite() && **v >= 0.0)
+            .map(|&v| v as u32)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    categories.sort_unstable();
+    categories.dedup();
     let colour_of = |i: usize| -> Rgb {
         if options.force_network {
             [0.8, 0.8, 0.8]
+        } else if categorical {
+            category(values[i].max(0.0) as usize)
         } else {
             turbo(fraction(values[i], low, high))
         }
@@ -424,6 +440,7 @@ pub fn render_snapshot(
         label: bar_label,
         low,
         high,
+        categories,
     };
     overlay::draw(&mut rgb, w, h, &title, Some(&bar))?;
     Ok(Picture {
