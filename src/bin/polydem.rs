@@ -53,7 +53,7 @@ enum Command {
         #[arg(long, default_value = "iso", allow_hyphen_values = true)]
         view: View,
         /// Point data of particles_*.vtp to colour by (vectors by their length), e.g. speed,
-        /// id, material, radius, angular_velocity.
+        /// id, material, radius, angular_velocity; material and shape as categories.
         #[arg(long, default_value = "speed")]
         color: String,
         /// Colour range LOW:HIGH [default: the frame's range; a series' over all its frames].

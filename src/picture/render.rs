@@ -318,15 +318,11 @@ pub fn render_snapshot(
         .zip(radii)
         .map(|(&p, &r)| (p, r))
         .collect();
-    for data in [
-        snap.walls.as_ref().map(|(_, d)| d),
-        polyhedra.as_ref().map(|(d, _)| *d),
-    ]
-    .into_iter()
-    .flatten()
-    {
+    if let Some((data, _)) = &polyhedra {
         bounds.extend(data.points.iter().map(|&p| (p, 0.0)));
     }
+    // The walls as drawn: plane squares already cut to the particles' side of the others.
+    bounds.extend(walls.iter().flat_map(|(_, w)| w.iter().map(|&p| (p, 0.0))));
     let camera = Camera::fit(options.view, bounds.into_iter(), viewport);
     let fine = camera.scaled(SAMPLES as f64);
     let shading = Shading::default();
