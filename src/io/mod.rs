@@ -1,6 +1,7 @@
 //! Mesh input (`mesh`: STL and OBJ files read into welded triangle lists) and
-//! simulation output (and `vtk_read`, which reads it back for pictures): particle and wall snapshots for ParaView (`.vtp` plus a
-//! `.pvd` time series) and scalar time series as CSV.
+//! simulation output: particle and wall snapshots for ParaView (`.vtp` plus a
+//! `.pvd` time series) and scalar time series as CSV; `vtk_read` and `csv_read`
+//! read that output back for `polydem render` and `polydem plot`.
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
 //! full disk in the middle of a long run never leaves a truncated file behind:

@@ -3,11 +3,11 @@
 //!
 //! The 3-D view is a small software rasteriser, one idea per file: `camera` (orthographic views
 //! fitted to the scene), `raster` (z-buffer, Lambert shading, spheres traced per pixel, polygons,
-//! lines), `colormap`, `cut` (half-spaces that cut walls away), `run_files` (which files of a run
-//! folder make a frame), `overlay` (title and colour bar), `render` (one frame from all that).
-//! Text and plots go through `plotters` with an embedded font (`font`), text drawn by `text`; PNG files are written by
-//! `png`, atomically like every output of polydem; a series can also go into an animated GIF
-//! (`animation`).
+//! lines, outlines), `colormap`, `cut` (half-spaces that cut walls away), `run_files` (which
+//! files of a run folder make a frame), `overlay` (title and colour bar), `render` (one frame
+//! from all that). Text and plots go through `plotters` with an embedded font (`font`), the text
+//! drawn by `text`; PNG files are written by `png`, atomically like every output of polydem; a
+//! series can also go into an animated GIF (`animation`).
 
 pub mod animation;
 pub mod camera;
