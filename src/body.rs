@@ -22,7 +22,7 @@ pub struct BodyInit {
     pub angular_velocity: DVec3,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bodies {
     /// User-visible identifier, stable for the life of the body.
     pub id: Vec<u64>,

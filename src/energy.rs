@@ -21,13 +21,15 @@ pub struct EnergyReport {
     pub inserted: f64,
     /// Work done on the bodies by moving walls and belt surfaces since the start [J].
     pub wall_work: f64,
+    /// Potential energy the bodies gained when gravity changed (`gravity_table`) [J].
+    pub gravity_work: f64,
     /// Body–body plus body–wall contacts.
     pub contacts: usize,
 }
 
 impl EnergyReport {
-    /// Kinetic + potential + elastic + dissipated + carried out − brought in (by inserted bodies
-    /// and by the work of moving walls): constant up to integration error.
+    /// Kinetic + potential + elastic + dissipated + carried out − brought in (by inserted bodies,
+    /// the work of moving walls and changes of gravity): constant up to integration error.
     pub fn total(&self) -> f64 {
         self.kinetic_translational
             + self.kinetic_rotational
@@ -37,5 +39,6 @@ impl EnergyReport {
             + self.removed
             - self.inserted
             - self.wall_work
+            - self.gravity_work
     }
 }

@@ -10,7 +10,7 @@ use crate::body::Bodies;
 use crate::math::{Aabb, DVec3};
 
 /// What a meter counts the flow through.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum FlowSurface {
     /// Bodies crossing the plane through `point` with unit `normal`, counted positive along it.
     Plane { point: DVec3, normal: DVec3 },
@@ -18,7 +18,7 @@ pub enum FlowSurface {
     RegionOutflow(Aabb),
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FlowMeter {
     pub name: String,
     pub surface: FlowSurface,

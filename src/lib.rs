@@ -7,6 +7,7 @@
 pub mod bench;
 pub mod body;
 pub mod broad_phase;
+pub mod checkpoint;
 pub mod contact;
 pub mod contact_law;
 pub mod energy;
@@ -23,6 +24,7 @@ pub mod run;
 pub mod scene;
 pub mod shape;
 pub mod step;
+pub mod time_table;
 pub mod timestep;
 pub mod wall;
 pub mod world;

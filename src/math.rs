@@ -6,7 +6,7 @@
 pub use glam::{DMat3, DQuat, DVec3};
 
 /// Axis-aligned bounding box.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Aabb {
     pub min: DVec3,
     pub max: DVec3,

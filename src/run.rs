@@ -1,10 +1,23 @@
-//! Running a prepared scene to its end: steps, insertions during the run, output at intervals.
+//! Running a prepared scene to its end: steps, insertions during the run, output at intervals,
+//! checkpoints at intervals, at the end and when asked to stop; and resuming from a checkpoint
+//! (`run/resume.rs`).
 
+use crate::checkpoint::{
+    self, Checkpoint, CheckpointError, RunProgress, SceneRecord, ScheduleRecord,
+};
+use crate::io::body_values::ShapeNames;
 use crate::io::output::RunOutput;
 use crate::scene::{InsertionReport, Prepared};
+use crate::shape::Shape;
 use crate::World;
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+mod resume;
+
+pub use resume::{resume, ResumeOptions};
 
 /// Why a run stopped before its end.
 #[derive(Debug)]
@@ -13,14 +26,42 @@ pub enum RunError {
     Output(std::io::Error),
     /// The state stopped being finite: the run blew up. The outputs written before stay valid.
     BlowUp(String),
+    /// Writing or reading a checkpoint failed.
+    Checkpoint(CheckpointError),
+    /// The run was asked to stop ([`Control::stop`]) and did, at `time`, after writing
+    /// `checkpoint` (if it writes checkpoints).
+    Interrupted {
+        time: f64,
+        checkpoint: Option<PathBuf>,
+    },
+    /// A checkpoint cannot be resumed with this scene: why.
+    Resume(String),
 }
 
 impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
         match self {
             RunError::Output(e) => write!(f, "{e}"),
-            RunError::BlowUp(why) => f.write_str(why),
+            RunError::BlowUp(why) | RunError::Resume(why) => f.write_str(why),
+            RunError::Checkpoint(e) => write!(f, "{e}"),
+            RunError::Interrupted { time, checkpoint } => {
+                write!(f, "interrupted at t = {time:.6e} s")?;
+                match checkpoint {
+                    Some(path) => write!(
+                        f,
+                        "; checkpoint written to '{}'; continue with `polydem resume`",
+                        path.display()
+                    ),
+                    None => write!(f, " (no checkpoint)"),
+                }
+            }
         }
+    }
+}
+
+impl From<CheckpointError> for RunError {
+    fn from(e: CheckpointError) -> Self {
+        RunError::Checkpoint(e)
     }
 }
 
@@ -64,62 +105,239 @@ pub fn blow_up(world: &World) -> Option<String> {
 
 /// What a run tells its caller as it goes.
 pub enum RunEvent<'a> {
+    /// Before the first step: the run goes from step `from` to step `to` (the scene's duration).
+    Start { from: u64, to: u64 },
     /// After each chunk of steps.
     Progress(&'a World),
     /// After an insertion during the run.
     Inserted(&'a InsertionReport),
+    /// After a checkpoint was written.
+    Checkpoint(&'a Path),
+    /// Something the user should know (a checkpoint that could not be read and was passed over).
+    Note(String),
+}
+
+/// How a run is steered from outside: checkpoints, and a request to stop.
+#[derive(Clone, Default)]
+pub struct Control {
+    /// The scene the run comes from, stored in its checkpoints; `None`: no checkpoints.
+    pub scene: Option<SceneRecord>,
+    /// When set (by a signal handler, say), the run stops after the chunk of steps under way,
+    /// writes a checkpoint and returns [`RunError::Interrupted`].
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// A run under way: the prepared world, its outputs, and what its checkpoints need.
+struct Session<'a> {
+    prepared: &'a mut Prepared,
+    output: RunOutput,
+    control: Control,
+    /// The polyhedral shapes the scene built (see [`templates`]).
+    templates: Vec<Shape>,
+    fingerprint: u64,
 }
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
 /// output interval, and doing scheduled insertions at their times. Stops with
-/// [`RunError::BlowUp`] as soon as the state is no longer finite (checked after every chunk). Chunks of steps are short
-/// enough for a lively progress display and long enough to keep the per-chunk overhead negligible.
+/// [`RunError::BlowUp`] as soon as the state is no longer finite (checked after every chunk).
+/// Chunks of steps are short enough for a lively progress display and long enough to keep the
+/// per-chunk overhead negligible. Writes no checkpoints: see [`run_with`].
 pub fn run(
     prepared: &mut Prepared,
     out_dir: &Path,
+    observe: impl FnMut(RunEvent),
+) -> Result<RunOutput, RunError> {
+    run_with(prepared, out_dir, Control::default(), observe)
+}
+
+/// [`run`], with checkpoints (every `prepared.checkpoint_interval`, at the end and when stopped)
+/// if `control` names the scene, and stopping when `control.stop` is set.
+pub fn run_with(
+    prepared: &mut Prepared,
+    out_dir: &Path,
+    control: Control,
     mut observe: impl FnMut(RunEvent),
 ) -> Result<RunOutput, RunError> {
-    let total_steps = total_steps(prepared);
-    let dt = prepared.world.time_step();
-    let step_of = |time: f64| (time / dt).round() as u64;
-    // Output k falls on the step nearest k·interval, so outputs stay on the user's times and the
-    // last one coincides with the end when the duration is a multiple of the interval.
-    let interval = prepared.output_interval;
-    let output_step = |k: u64| step_of(k as f64 * interval).max(k);
-    let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output)?;
+    let cleared = crate::io::output::clear_previous_run(out_dir)?;
+    if cleared > 0 {
+        observe(RunEvent::Note(format!(
+            "removed {cleared} files of an earlier run in '{}' (its frames, series and \
+             checkpoints)",
+            out_dir.display()
+        )));
+    }
+    let names = ShapeNames::new(prepared.shape_names.clone());
+    let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output, names)?;
     output.write(&prepared.world)?;
-    let mut outputs = 1;
-    let mut next_output = output_step(outputs);
-    while prepared.world.steps_done() < total_steps {
-        let next_insertion = prepared.next_insertion_time().map(step_of);
-        let until = next_output.min(total_steps).min(
-            next_insertion
-                .unwrap_or(u64::MAX)
-                .max(prepared.world.steps_done() + 1),
-        );
-        while prepared.world.steps_done() < until {
-            let chunk = (until - prepared.world.steps_done()).min(200);
-            prepared.world.run_steps(chunk);
-            if let Some(why) = blow_up(&prepared.world) {
-                return Err(RunError::BlowUp(why));
+    let templates = templates(prepared);
+    let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let mut session = Session {
+        prepared,
+        output,
+        control,
+        templates,
+        fingerprint,
+    };
+    session.drive(observe)?;
+    Ok(session.output)
+}
+
+impl Session<'_> {
+    /// Runs from the world's current step to the end.
+    fn drive(&mut self, mut observe: impl FnMut(RunEvent)) -> Result<(), RunError> {
+        let total_steps = total_steps(self.prepared);
+        observe(RunEvent::Start {
+            from: self.prepared.world.steps_done(),
+            to: total_steps,
+        });
+        let dt = self.prepared.world.time_step();
+        // Output k falls on the step nearest k·interval, so outputs stay on the user's times and
+        // the last one coincides with the end when the duration is a multiple of the interval.
+        // The next one is the first after the current step: what happened at this step (a
+        // resumed run's first) is done.
+        let schedule =
+            |interval: f64| move |k: u64| ((k as f64 * interval / dt).round() as u64).max(k);
+        let first = self.prepared.world.steps_done();
+        let frame_step = schedule(self.prepared.output_interval);
+        let mut next_frame = frame_step(first_after(first, frame_step));
+        let row_step = schedule(self.prepared.csv_interval);
+        let mut next_row = row_step(first_after(first, row_step));
+        let checkpoint_step = self
+            .prepared
+            .checkpoint_interval
+            .filter(|_| self.control.scene.is_some())
+            .map(schedule);
+        let mut next_checkpoint = checkpoint_step
+            .map(|at| at(first_after(self.prepared.world.steps_done(), at)))
+            .unwrap_or(u64::MAX);
+        while self.prepared.world.steps_done() < total_steps {
+            let next_insertion = self
+                .prepared
+                .next_insertion_time()
+                .map(|t| (t / dt).round() as u64);
+            let until = (next_frame
+                .min(next_row)
+                .min(total_steps)
+                .min(next_checkpoint))
+            .min(
+                next_insertion
+                    .unwrap_or(u64::MAX)
+                    .max(self.prepared.world.steps_done() + 1),
+            );
+            let mut stopped = false;
+            while self.prepared.world.steps_done() < until && !stopped {
+                let chunk = (until - self.prepared.world.steps_done()).min(200);
+                self.prepared.world.run_steps(chunk);
+                if let Some(why) = blow_up(&self.prepared.world) {
+                    return Err(RunError::BlowUp(why));
+                }
+                observe(RunEvent::Progress(&self.prepared.world));
+                stopped = self
+                    .control
+                    .stop
+                    .as_ref()
+                    .is_some_and(|s| s.load(Ordering::Relaxed));
             }
-            observe(RunEvent::Progress(&prepared.world));
+            let done = self.prepared.world.steps_done();
+            if next_insertion.is_some_and(|s| s <= done) {
+                for report in self.prepared.insert_due() {
+                    observe(RunEvent::Inserted(&report));
+                }
+            }
+            if done == next_frame || done == total_steps {
+                self.output.write_frame(&self.prepared.world)?;
+                next_frame = frame_step(first_after(done, frame_step));
+            }
+            if done == next_row || done == total_steps {
+                self.output.write_rows(&self.prepared.world)?;
+                next_row = row_step(first_after(done, row_step));
+            }
+            if stopped {
+                let checkpoint = self.checkpoint(&mut observe)?;
+                return Err(RunError::Interrupted {
+                    time: self.prepared.world.time(),
+                    checkpoint,
+                });
+            }
+            if done == next_checkpoint && done < total_steps {
+                self.checkpoint(&mut observe)?;
+                let at = checkpoint_step.expect("a checkpoint step comes from an interval");
+                next_checkpoint = at(first_after(done, at));
+            }
         }
-        if next_insertion.is_some_and(|s| s <= prepared.world.steps_done()) {
-            for report in prepared.insert_due() {
-                observe(RunEvent::Inserted(&report));
-            }
-        }
-        let w = &prepared.world;
-        if w.steps_done() == next_output || w.steps_done() == total_steps {
-            output.write(w)?;
-            while next_output <= w.steps_done() {
-                outputs += 1;
-                next_output = output_step(outputs);
-            }
+        self.checkpoint(&mut observe)?;
+        Ok(())
+    }
+
+    /// Writes a checkpoint of the run as it is now, if the run writes checkpoints.
+    fn checkpoint(&self, observe: &mut impl FnMut(RunEvent)) -> Result<Option<PathBuf>, RunError> {
+        let Some(scene) = &self.control.scene else {
+            return Ok(None);
+        };
+        let p = &*self.prepared;
+        let world = p
+            .world
+            .snapshot(&self.templates)
+            .map_err(|e| RunError::Checkpoint(CheckpointError::Encode(e.to_string())))?;
+        let progress = RunProgress {
+            schedule: p
+                .schedule
+                .iter()
+                .map(|s| ScheduleRecord {
+                    index: s.index,
+                    next_time: s.next_time,
+                    done: s.done,
+                })
+                .collect(),
+            output: self.output.clone(),
+        };
+        let checkpoint = Checkpoint {
+            polydem_version: env!("CARGO_PKG_VERSION").to_string(),
+            scene: scene.clone(),
+            fingerprint: self.fingerprint,
+            world,
+            progress,
+        };
+        let path =
+            checkpoint::write_keeping_two(self.output.dir(), p.world.steps_done(), &checkpoint)?;
+        observe(RunEvent::Checkpoint(&path));
+        Ok(Some(path))
+    }
+}
+
+/// The first k ≥ 1 whose step `at(k)` comes after `step` (`at` increasing).
+fn first_after(step: u64, at: impl Fn(u64) -> u64) -> u64 {
+    let mut k = 1;
+    // Gallop, then bisect: `at` is about linear, so this takes a few dozen calls at most.
+    while at(k) <= step {
+        k *= 2;
+    }
+    let mut lo = k / 2;
+    while lo + 1 < k {
+        let mid = (lo + k) / 2;
+        if at(mid) <= step {
+            lo = mid;
+        } else {
+            k = mid;
         }
     }
-    Ok(output)
+    k
+}
+
+/// The polyhedral shapes a prepared scene built, in a fixed order: those of the bodies placed at
+/// the start, then those of the insertions to come. Checkpoints name shapes by their place here.
+pub fn templates(prepared: &Prepared) -> Vec<Shape> {
+    let placed = prepared
+        .world
+        .shapes()
+        .iter()
+        .filter(|s| !matches!(s, Shape::Sphere(_)))
+        .cloned();
+    let inserted = prepared
+        .schedule
+        .iter()
+        .filter_map(|s| s.shape.as_ref().map(|b| b.shape.clone()));
+    placed.chain(inserted).collect()
 }
 
 /// Number of steps a prepared scene will take.

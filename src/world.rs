@@ -12,14 +12,17 @@ use crate::shape::Shape;
 use crate::step::{
     self, space_order, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
 };
+use crate::time_table::TimeTable;
 use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
 
 mod config;
 mod population;
+mod snapshot;
 mod view;
 
 pub use config::WorldConfig;
+pub use snapshot::{RestoreError, ShapeRecord, WorldState};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances
 /// them. Built complete by [`World::new`] (and the `with_*` parts that a world may lack: mesh
@@ -29,6 +32,10 @@ pub struct World {
     steps_done: u64,
     time_step: f64,
     gravity: DVec3,
+    /// Gravity over time, for runs in stages; `None`: `gravity` throughout.
+    gravity_table: Option<TimeTable<DVec3>>,
+    /// Potential energy the bodies gained when gravity changed [J] (see [`World::follow_gravity`]).
+    gravity_work: f64,
     bodies: Bodies,
     shapes: Vec<Shape>,
     materials: Vec<Material>,
@@ -84,6 +91,8 @@ impl World {
             steps_done: 0,
             time_step: config.time_step,
             gravity: config.gravity,
+            gravity_table: None,
+            gravity_work: 0.0,
             bodies: Bodies::default(),
             shapes: Vec::new(),
             materials: config.materials,
@@ -125,6 +134,13 @@ impl World {
     pub fn with_polyhedral_law(mut self, law: PolyhedralLaw) -> Self {
         self.polyhedral_law = law;
         self.structure_changed();
+        self
+    }
+
+    /// The world with gravity following `table` (see [`World::follow_gravity`]).
+    pub fn with_gravity_table(mut self, table: TimeTable<DVec3>) -> Self {
+        self.gravity = table.value(self.time + 0.5 * self.time_step);
+        self.gravity_table = Some(table);
         self
     }
 
@@ -178,6 +194,7 @@ impl World {
         {
             self.sort_bodies_in_space();
         }
+        self.follow_gravity();
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
         integrate::kick_drift(&mut self.bodies, self.gravity, dt, &mut self.motion);
@@ -197,6 +214,26 @@ impl World {
         clock.lap(&mut self.times.other);
         self.time += dt;
         self.steps_done += 1;
+    }
+
+    /// Sets gravity to the gravity table's value in the middle of this step (so a ramp gives the
+    /// exact change of velocity: the midpoint rule is exact on linear pieces). A change of the field
+    /// with the bodies where they are changes their potential energy −Σ m g·x: that change is
+    /// booked as work done on them, so the energy ledger still closes.
+    fn follow_gravity(&mut self) {
+        let Some(table) = &self.gravity_table else {
+            return;
+        };
+        let g = table.value(self.time + 0.5 * self.time_step);
+        if g == self.gravity {
+            return;
+        }
+        let change = g - self.gravity;
+        let b = &self.bodies;
+        self.gravity_work -= (0..b.len())
+            .map(|i| b.mass[i] * change.dot(b.position[i]))
+            .sum::<f64>();
+        self.gravity = g;
     }
 
     /// Puts the moving mesh walls where they are at time `t`.
@@ -280,6 +317,7 @@ impl World {
             removed: world.energy_removed,
             inserted: world.energy_inserted,
             wall_work: world.wall_loads().work,
+            gravity_work: world.gravity_work,
             contacts: world.contacts().len(),
             ..EnergyReport::default()
         };

@@ -607,3 +607,44 @@ fn durations_out_of_reach_of_the_step_are_refused() {
         &[&at(&long, "duration ="), "duration", "1.000e15 steps"],
     );
 }
+
+/// `--set KEY=VALUE` and `--duration` change the scene as if the file said so, and are checked
+/// like the file: a bad value names the key and the override, a bad key path the override.
+#[test]
+fn command_line_overrides_are_checked_like_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join(SCENE);
+    std::fs::write(&file, BASE).unwrap();
+    let check = |extra: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec!["check".as_ref(), file.as_os_str()];
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        polydem(&args)
+    };
+    let out = accepted(&check(&[
+        "--duration",
+        "0.004",
+        "--set",
+        "simulation.output_interval=0.001",
+    ]));
+    assert!(out.contains("duration     0.004 s"), "{out}");
+    assert!(out.contains("output every 0.001 s"), "{out}");
+
+    let e = assert_refused(
+        &check(&["--set", "material[0].restitution=1.5"]),
+        &file,
+        &["restitution", "(0, 1]", "--set material[0].restitution=1.5"],
+    );
+    assert!(e.contains(&at(BASE, "restitution")), "{e}");
+    assert_refused(
+        &check(&["--set", "material[1].friction=0.2"]),
+        &file,
+        &["--set material[1].friction=0.2", "no `material[1]`"],
+    );
+    let bad = check(&["--set", "simulation.duration"]);
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("KEY=VALUE"),
+        "{}",
+        text(&bad.stderr)
+    );
+}

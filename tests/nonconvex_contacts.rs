@@ -157,7 +157,7 @@ rotation = [{rx}, {ry}, {rz}]
         force_network: true,
         packing_region: None,
     };
-    let mut out = RunOutput::create(dir.path(), w, &options).unwrap();
+    let mut out = RunOutput::create(dir.path(), w, &options, Default::default()).unwrap();
     out.write(w).unwrap();
     let vtp = std::fs::read(dir.path().join("contacts_000000.vtp")).unwrap();
     let header = String::from_utf8_lossy(&vtp[..vtp.len().min(4000)]);

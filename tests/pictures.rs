@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use polydem::io::vtk::{write_force_network, ForceNetwork};
+use polydem::io::vtk::{write_force_network, BodyFields, ForceNetwork};
 use polydem::io::{write_particles, write_polygons, ParticleFrame, PolygonMesh, PvdSeries};
 use polydem::math::{DQuat, DVec3};
 use polydem::picture::camera::View;
@@ -55,14 +55,25 @@ fn write_scene(dir: &Path, q: DQuat, sphere: bool) {
     let n = ids.len();
     let zeros = vec![DVec3::ZERO; n];
     let velocities: Vec<DVec3> = (0..n).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
+    let speeds: Vec<f64> = velocities.iter().map(|v| v.length()).collect();
+    let materials: Vec<u32> = ids.iter().map(|&id| id as u32).collect();
+    let counts = vec![0u32; n];
     let frame = ParticleFrame {
         ids: &ids,
         positions: &positions,
         radii: &radii,
-        velocities: &velocities,
-        angular_velocities: &zeros,
-        materials: &ids.iter().map(|&id| id as u32).collect::<Vec<_>>(),
         orientations: &vec![q; n],
+        fields: BodyFields {
+            velocities: &velocities,
+            speeds: &speeds,
+            angular_velocities: &zeros,
+            forces: &zeros,
+            torques: &zeros,
+            coordination: &counts,
+            wall_contacts: &counts,
+            materials: &materials,
+            shapes: &materials,
+        },
     };
     let time = 0.25;
     write_particles(&dir.join("particles_000000.vtp"), &frame, time).unwrap();

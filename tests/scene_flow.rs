@@ -60,6 +60,7 @@ fn timed_insertions_and_open_boundary() {
     run(&mut prepared, dir.path(), |event| match event {
         RunEvent::Inserted(r) => insertions.push(r.clone()),
         RunEvent::Progress(w) => most = most.max(w.bodies().len()),
+        _ => {}
     })
     .unwrap();
 

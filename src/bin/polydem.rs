@@ -1,16 +1,20 @@
 //! The `polydem` command: run or check a scene file, and make pictures of a run.
 
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polydem::checkpoint::SceneRecord;
 use polydem::picture::camera::View;
 use polydem::picture::cut::Cut;
 use polydem::picture::render::RenderOptions;
 use polydem::picture::run_files::FrameChoice;
-use polydem::run::RunEvent;
+use polydem::run::{Control, ResumeOptions, RunError};
 use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+
+#[path = "polydem/progress.rs"]
+mod progress;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -28,6 +32,8 @@ enum Command {
     Run {
         /// Scene file (TOML).
         scene: PathBuf,
+        #[command(flatten)]
+        changes: SceneChanges,
         /// Output folder [default: output/<scene name>].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -35,10 +41,31 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Continue a run from the newest checkpoint in its output folder, into the same output
+    /// series; the result is the same, bit for bit, as if the run had never stopped.
+    Resume {
+        /// The run's output folder (with its `checkpoints/`).
+        dir: PathBuf,
+        /// Continue with this scene file instead of the one stored in the checkpoint; it may
+        /// differ only in the duration, output and checkpoint intervals and threads.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// A new end time [s], e.g. to run a finished run further.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Continue with the scene stored in the checkpoint even if its file has changed since.
+        #[arg(long, conflicts_with = "scene")]
+        stored_scene: bool,
+        /// Worker threads (0: one per core); results do not depend on them.
+        #[arg(long)]
+        threads: Option<usize>,
+    },
     /// Check a scene file and report what a run would do, without running it.
     Check {
         /// Scene file (TOML).
         scene: PathBuf,
+        #[command(flatten)]
+        changes: SceneChanges,
     },
     /// Draw frames of a run as shaded PNG pictures (particles, walls, colour bar), no ParaView
     /// needed.
@@ -94,6 +121,31 @@ enum Command {
         #[command(subcommand)]
         what: Bench,
     },
+}
+
+/// Scene keys set from the command line instead of the file.
+#[derive(clap::Args)]
+struct SceneChanges {
+    /// Set a scene key, e.g. `--set simulation.duration=2` or `--set material[0].friction=0.3`
+    /// (`[i]`: the i-th entry, from 0); repeatable. Checked like the file.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<polydem::scene::overrides::Override>,
+    /// The simulated duration [s] (same as `--set simulation.duration=SECONDS`).
+    #[arg(long, value_name = "SECONDS")]
+    duration: Option<f64>,
+}
+
+impl SceneChanges {
+    fn overrides(&self) -> Vec<polydem::scene::overrides::Override> {
+        let mut all = self.set.clone();
+        if let Some(d) = self.duration {
+            all.push(polydem::scene::overrides::Override {
+                key: "simulation.duration".into(),
+                value: format!("{d:?}"),
+            });
+        }
+        all
+    }
 }
 
 #[derive(Subcommand)]
@@ -163,10 +215,26 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run {
             scene,
+            changes,
             out,
             threads,
-        } => run(&scene, out, threads),
-        Command::Check { scene } => check(&scene),
+        } => run(&scene, &changes, out, threads),
+        Command::Resume {
+            dir,
+            scene,
+            duration,
+            stored_scene,
+            threads,
+        } => resume(
+            &dir,
+            ResumeOptions {
+                scene,
+                threads,
+                duration,
+                stored_scene,
+            },
+        ),
+        Command::Check { scene, changes } => check(&scene, &changes),
         Command::Render {
             dir,
             frame,
@@ -252,12 +320,28 @@ fn report_written(
     Ok(())
 }
 
-fn prepare(scene: &Path, threads: Option<usize>) -> Result<Prepared, String> {
-    let mut scene = Scene::load(scene).map_err(|e| e.to_string())?;
+/// Exit code of a run stopped by SIGINT or SIGTERM, as shells report a process ended by SIGINT.
+const EXIT_INTERRUPTED: u8 = 130;
+
+fn load(scene: &Path, changes: &SceneChanges, threads: Option<usize>) -> Result<Scene, String> {
+    let overrides = changes.overrides();
+    // A message about a key set on the command line should say so.
+    let note = |e: polydem::scene::SceneError| {
+        let set: Vec<String> = overrides.iter().map(|o| o.to_string()).collect();
+        if set.is_empty() || matches!(e, polydem::scene::SceneError::Override { .. }) {
+            e.to_string()
+        } else {
+            format!(
+                "{e}\n(the scene as changed by --set {})",
+                set.join(" --set ")
+            )
+        }
+    };
+    let mut scene = Scene::load_with(scene, &overrides).map_err(note)?;
     if let Some(threads) = threads {
         scene.spec.simulation.threads = threads;
     }
-    scene.build().map_err(|e| e.to_string())
+    Ok(scene)
 }
 
 fn describe(scene: &Path, p: &Prepared) {
@@ -283,79 +367,107 @@ fn describe(scene: &Path, p: &Prepared) {
     };
     println!("time step    {:.4e} s ({how})", w.time_step());
     println!("             estimate: {}", p.estimate.reason);
-    println!(
-        "duration     {} s = {steps} steps, output every {} s",
-        p.duration, p.output_interval
-    );
+    if p.output_interval == p.csv_interval {
+        println!(
+            "duration     {} s = {steps} steps, output every {} s",
+            p.duration, p.output_interval
+        );
+    } else {
+        println!(
+            "duration     {} s = {steps} steps, VTK frames every {} s, CSV rows every {} s",
+            p.duration, p.output_interval, p.csv_interval
+        );
+    }
     println!("threads      {}", w.threads());
     for note in &p.notes {
         println!("note         {note}");
     }
 }
 
-fn check(scene: &Path) -> Result<(), String> {
-    let prepared = prepare(scene, None)?;
+fn check(scene: &Path, changes: &SceneChanges) -> Result<(), String> {
+    let prepared = load(scene, changes, None)?
+        .build()
+        .map_err(|e| e.to_string())?;
     describe(scene, &prepared);
     println!("scene is valid");
     Ok(())
 }
 
-fn run(scene: &Path, out: Option<PathBuf>, threads: Option<usize>) -> Result<(), String> {
+fn run(
+    scene: &Path,
+    changes: &SceneChanges,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<(), String> {
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
-    let mut prepared = prepare(scene, threads)?;
+    let loaded = load(scene, changes, threads)?;
+    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone())
+        .with_overrides(&changes.overrides());
+    let mut prepared = loaded.build().map_err(|e| e.to_string())?;
     let out = out.unwrap_or_else(|| {
         let stem = scene.file_stem().unwrap_or_default();
         Path::new("output").join(stem)
     });
     describe(scene, &prepared);
     println!("output       {}", out.display());
-
-    let steps = polydem::run::total_steps(&prepared);
-    let duration = prepared.duration;
-    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {percent:>3}% t = {msg} | {per_sec} | ETA {eta}")
-            .expect("the template is valid"),
-    );
-    let start = Instant::now();
-    let result = polydem::run::run(&mut prepared, &out, |event| match event {
-        RunEvent::Progress(w) => {
-            bar.set_position(w.steps_done());
-            bar.set_message(format!("{:.4} / {duration} s", w.time()));
-        }
-        RunEvent::Inserted(r) => {
-            let line = format!(
-                "t = {:.4} s: [[insert]] #{} added {} bodies",
-                r.time,
-                r.index + 1,
-                r.inserted
-            );
-            match &r.shortfall {
-                Some(why) => bar.println(format!("{line}; not all fitted: {why}")),
-                None => bar.println(line),
-            }
-        }
+    let control = Control {
+        scene: Some(record),
+        stop: Some(stop_on_signal()),
+    };
+    let result = progress::show(|observe| {
+        polydem::run::run_with(&mut prepared, &out, control, observe).map(|_| ())
     });
-    bar.finish_and_clear();
-    result.map_err(|e| match e {
-        polydem::run::RunError::Output(e) => format!("writing output to '{}': {e}", out.display()),
-        blow_up => format!("{}: {blow_up}", scene.display()),
-    })?;
-    let seconds = start.elapsed().as_secs_f64();
-    let w = &prepared.world;
-    println!(
-        "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s",
-        w.steps_done(),
-        (w.steps_done() as f64 * w.bodies().len() as f64) / seconds.max(1e-9)
-    );
-    if w.bodies_removed() > 0 {
-        println!(
-            "             {} bodies left the domain and were removed",
-            w.bodies_removed()
-        );
-    }
+    let (_, summary) = result.map_err(|e| run_error(e, scene, &out))?;
+    summary.report(&prepared);
     Ok(())
+}
+
+fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
+    let control = Control {
+        scene: None,
+        stop: Some(stop_on_signal()),
+    };
+    let result = progress::show(|observe| {
+        polydem::run::resume(dir, &options, control, observe).map(|(prepared, _)| prepared)
+    });
+    let (prepared, summary) = result.map_err(|e| run_error(e, dir, dir))?;
+    summary.report(&prepared);
+    Ok(())
+}
+
+/// A flag that Ctrl-C (SIGINT) and SIGTERM set, so the run stops at the next chunk of steps with
+/// a checkpoint; a second signal ends the process at once.
+fn stop_on_signal() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    let installed = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            eprintln!("\nstopping now, without a checkpoint");
+            std::process::exit(130);
+        }
+        eprintln!(
+            "\nstopping after the steps under way, with a checkpoint (Ctrl-C again: stop at once)"
+        );
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will stop the run without a checkpoint ({e})");
+    }
+    stop
+}
+
+/// The message of a run that failed; a run that was stopped by a signal ends the process here,
+/// with its own exit code, after saying how to continue it.
+fn run_error(e: RunError, scene: &Path, out: &Path) -> String {
+    match e {
+        RunError::Output(e) => format!("writing output to '{}': {e}", out.display()),
+        RunError::Checkpoint(e) => e.to_string(),
+        RunError::Interrupted { .. } => {
+            eprintln!("{e}: polydem resume {}", out.display());
+            std::process::exit(EXIT_INTERRUPTED.into());
+        }
+        e => format!("{}: {e}", scene.display()),
+    }
 }
 
 fn bench_scene(

@@ -2,7 +2,9 @@
 
 /// What a body touches: another body, a plane wall or a mesh wall (by index in the world's lists).
 /// The order (bodies, then planes, then mesh walls) is the order of a body's contacts in the store.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum Partner {
     Body(u32),
     Plane(u32),
@@ -24,7 +26,7 @@ impl Partner {
 }
 
 /// How the narrow phase treats a pair; decided from the shapes when the pair becomes a candidate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum PairKind {
     /// Two spheres: centre distance against the sum of radii, nothing else.
     Spheres,
@@ -59,7 +61,9 @@ pub struct ShapeTraits {
 /// index), its partner, and which of the pair's contact regions this is (0 for a pair that touches
 /// in one place). Keys sort by `(a, partner, region)`; the store keeps its contacts in that order,
 /// which is what makes every later loop run in a fixed order whatever the thread count.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub struct ContactKey {
     pub a: u32,
     pub partner: Partner,

@@ -7,7 +7,7 @@ use crate::contact_law::Response;
 use crate::math::DVec3;
 
 /// The force and the moments a contact puts on its two bodies this step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Load {
     /// Force on body `a` [N]; the partner takes the opposite.
     pub force: DVec3,
@@ -44,7 +44,7 @@ impl Load {
 }
 
 /// What else the law reports of a contact this step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LawReport {
     /// Normal force magnitude [N].
     pub normal_force: f64,

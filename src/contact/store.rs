@@ -20,7 +20,7 @@ use crate::math::permute_in_place;
 use crate::narrow_phase::{ContactPoint, Geometry};
 
 /// A body and a partner that may touch before the next neighbour search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Candidate {
     pub a: u32,
     pub partner: Partner,
@@ -40,7 +40,7 @@ pub struct ContactRef<'a> {
     pub report: &'a LawReport,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct Persistent {
     key: Vec<ContactKey>,
     kind: Vec<PairKind>,
@@ -112,7 +112,7 @@ impl Persistent {
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ContactStore {
     /// Per entry, sorted by key: key, whether it touches this step, its geometry (valid while
     /// touching; kept to match regions next step) and its history.
@@ -135,6 +135,7 @@ pub struct ContactStore {
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
     /// The keys and kinds of the last [`ContactStore::set_candidates`] (working memory).
+    #[serde(skip)]
     new_keys: Vec<(ContactKey, PairKind)>,
 }
 

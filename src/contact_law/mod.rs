@@ -79,7 +79,7 @@ pub struct Kinematics {
 }
 
 /// Which law polyhedral contacts use (scene: `[contact] polyhedra`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PolyhedralLaw {
     /// The elastic foundation over the overlap volume (`normal::volume_law`).
@@ -91,7 +91,7 @@ pub enum PolyhedralLaw {
 }
 
 /// The overlap of two polyhedra (or a polyhedron and a wall).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OverlapVolume {
     /// The law this overlap is measured for.
     pub law: PolyhedralLaw,
@@ -110,7 +110,7 @@ pub struct OverlapVolume {
 }
 
 /// What every contact remembers between steps while it lasts: its tangential spring.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct History {
     /// Tangential spring elongation ξ [m].
     pub tangential_spring: DVec3,
@@ -131,7 +131,7 @@ impl History {
 /// What a contact remembers of the relative rotation of its bodies: the rolling-resistance and
 /// twisting springs. Only worlds with rolling friction or polyhedra keep it (a side array of the
 /// contact store), so that a sphere contact carries nothing it does not use.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SpinHistory {
     /// Rolling-resistance torque on body i [N m], and its stiffness of the previous step.
     pub rolling_torque: DVec3,

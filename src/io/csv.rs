@@ -1,9 +1,11 @@
 //! Scalar time series (energies, forces on walls, …) as CSV.
 //!
-//! The rows are kept in memory and the whole file is rewritten atomically on
-//! every [`CsvSeries::push`]. That is deliberate: output intervals are coarse
-//! (thousands of rows at most), and it guarantees the file on disk always ends
-//! with a complete row, even if the simulation is killed mid-write.
+//! The file is created atomically with its header and first row, then grows by whole lines
+//! appended in one write each and synced to disk, so a long run's cost per row stays constant
+//! and a reader never sees a row half written by a run that is still going. The rows are also
+//! kept in memory (a few numbers per output interval) so that a checkpoint carries them: a
+//! resumed run writes the file whole once from them, dropping rows the stopped run wrote after
+//! its checkpoint, then appends again.
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -11,11 +13,15 @@ use std::path::{Path, PathBuf};
 use super::{atomic::write_atomic, format_f64, invalid_input};
 
 /// A CSV file with a fixed header, grown one row at a time.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CsvSeries {
     path: PathBuf,
     columns: Vec<String>,
     rows: Vec<Vec<f64>>,
+    /// How many of `rows` the file holds; 0 after a checkpoint is read, so that the file is
+    /// then written whole.
+    #[serde(skip)]
+    on_disk: usize,
 }
 
 impl CsvSeries {
@@ -26,10 +32,19 @@ impl CsvSeries {
             path,
             columns: columns.iter().map(|c| c.as_ref().to_string()).collect(),
             rows: Vec::new(),
+            on_disk: 0,
         }
     }
 
-    /// Appends `row` and rewrites the file (header, then all rows).
+    /// The same series, written into `dir` under the same file name.
+    pub fn relocate(&mut self, dir: &Path) {
+        if let Some(name) = self.path.file_name() {
+            self.path = dir.join(name);
+        }
+    }
+
+    /// Records `row` and writes it: the first time (and after a checkpoint was read) the whole
+    /// file atomically, then by appending the rows the file lacks.
     ///
     /// Returns `InvalidInput` if `row` does not have one value per column; the
     /// row is then not recorded. If writing fails, the row stays recorded and
@@ -44,7 +59,20 @@ impl CsvSeries {
             )));
         }
         self.rows.push(row.to_vec());
-        write_atomic(&self.path, |w| self.write_to(w))
+        if self.on_disk == 0 {
+            write_atomic(&self.path, |w| self.write_to(w))?;
+        } else {
+            let mut lines = String::new();
+            for row in &self.rows[self.on_disk..] {
+                lines.push_str(&line(row));
+            }
+            let mut file = std::fs::OpenOptions::new().append(true).open(&self.path)?;
+            // One write of whole lines, then to disk before the run goes on.
+            file.write_all(lines.as_bytes())?;
+            file.sync_data()?;
+        }
+        self.on_disk = self.rows.len();
+        Ok(())
     }
 
     /// Where the file is written.
@@ -66,11 +94,16 @@ impl CsvSeries {
         let header: Vec<String> = self.columns.iter().map(|c| quote(c)).collect();
         writeln!(w, "{}", header.join(","))?;
         for row in &self.rows {
-            let fields: Vec<String> = row.iter().map(|&x| format_f64(x)).collect();
-            writeln!(w, "{}", fields.join(","))?;
+            w.write_all(line(row).as_bytes())?;
         }
         Ok(())
     }
+}
+
+/// One row as a line of the file, exact (see `format_f64`).
+fn line(row: &[f64]) -> String {
+    let fields: Vec<String> = row.iter().map(|&x| format_f64(x)).collect();
+    format!("{}\n", fields.join(","))
 }
 
 /// RFC 4180 quoting, so a column name containing a comma cannot shift columns.
@@ -147,6 +180,32 @@ mod tests {
         assert_eq!(quote("force,x"), "\"force,x\"");
         assert_eq!(quote("say \"hi\""), "\"say \"\"hi\"\"\"");
         assert_eq!(quote("plain"), "plain");
+    }
+
+    /// Rows after the first are appended, not rewritten: the file's first bytes are not touched
+    /// again (a rewrite would replace the file, giving it a new inode).
+    #[cfg(unix)]
+    #[test]
+    fn rows_are_appended_and_a_resumed_series_is_written_whole_once() {
+        use std::os::unix::fs::MetadataExt;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.csv");
+        let mut series = CsvSeries::new(path.clone(), &["a"]);
+        series.push(&[1.0]).unwrap();
+        let inode = std::fs::metadata(&path).unwrap().ino();
+        series.push(&[2.0]).unwrap();
+        series.push(&[3.0]).unwrap();
+        assert_eq!(std::fs::metadata(&path).unwrap().ino(), inode);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a\n1\n2\n3\n");
+
+        // As from a checkpoint taken after two rows, the stopped run having written a third.
+        let mut resumed = series.clone();
+        resumed.rows.truncate(2);
+        resumed.on_disk = 0;
+        resumed.push(&[4.0]).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a\n1\n2\n4\n");
+        resumed.push(&[5.0]).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a\n1\n2\n4\n5\n");
     }
 
     #[test]

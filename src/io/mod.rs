@@ -5,11 +5,12 @@
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
 //! full disk in the middle of a long run never leaves a truncated file behind:
-//! a reader sees either the previous complete version or the new one. Series
-//! files (`.pvd`, `.csv`) are rewritten whole on every update for the same
-//! reason; output intervals are coarse, so the quadratic cost is negligible.
+//! a reader sees either the previous complete version or the new one. A `.pvd`
+//! series is rewritten whole on every frame for the same reason (it is small);
+//! CSV series grow by whole lines appended and synced (see `csv`).
 
 pub mod atomic;
+pub mod body_values;
 pub mod csv;
 pub mod csv_read;
 pub mod mesh;
@@ -19,7 +20,10 @@ pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_atomic_bytes};
 pub use csv::CsvSeries;
-pub use vtk::{write_particles, write_polygons, ParticleFrame, PolygonMesh, PvdSeries};
+pub use vtk::{
+    write_body_surfaces, write_particles, write_polygons, BodyFields, ParticleFrame, PolygonMesh,
+    PvdSeries,
+};
 
 /// Formats `x` so that `str::parse::<f64>` gives back exactly `x`.
 ///

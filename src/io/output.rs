@@ -1,11 +1,14 @@
 //! The files a run writes: a VTK time series for ParaView and a CSV energy time series.
 //!
 //! Layout of the output folder:
-//! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data;
+//! - `particles.pvd` → `particles_NNNNNN.vtp`: one point per body with its data (`BodyFields`:
+//!   velocity, speed, angular velocity, contact force and torque, coordination number, walls
+//!   touching, material, shape);
+//! - `legend.csv`: the names of the material and shape numbers;
 //! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
 //! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
-//!   pose (the triangles of a non-convex one), with the body's `id` per face (only when the
-//!   scene has polyhedra);
+//!   pose (the triangles of a non-convex one), with the body's `id` and fields per face (when the
+//!   scene has polyhedral shapes: from the first frame on, empty until the first one arrives);
 //! - `contacts.pvd` → `contacts_NNNNNN.vtp`: the force network, one line per contact with its
 //!   forces (only when asked for); a pair touching in several regions has one line per region,
 //!   bent at the region's contact point;
@@ -19,15 +22,19 @@
 //!
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
+use super::body_values::{BodyValues, FaceValues, ShapeNames};
 use super::vtk::{write_force_network, ForceNetwork};
-use super::{write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh, PvdSeries};
+use super::{
+    write_body_surfaces, write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh,
+    PvdSeries,
+};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::world::World;
 use std::io;
 use std::path::{Path, PathBuf};
 
-pub const ENERGY_COLUMNS: [&str; 12] = [
+pub const ENERGY_COLUMNS: [&str; 13] = [
     "time",
     "kinetic_translational",
     "kinetic_rotational",
@@ -37,13 +44,14 @@ pub const ENERGY_COLUMNS: [&str; 12] = [
     "removed",
     "inserted",
     "wall_work",
+    "gravity_work",
     "total",
     "contacts",
     "bodies",
 ];
 
 /// What a run writes beyond the defaults.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OutputOptions {
     /// Write the force network at every frame.
     pub force_network: bool,
@@ -51,6 +59,9 @@ pub struct OutputOptions {
     pub packing_region: Option<Aabb>,
 }
 
+/// The files of one run and what they have recorded so far. Plain data, so that a checkpoint can
+/// carry it and a resumed run continues the same series (see [`RunOutput::relocate`]).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct RunOutput {
     dir: PathBuf,
     particles: PvdSeries,
@@ -66,15 +77,32 @@ pub struct RunOutput {
     last_impulse: Vec<(DVec3, DVec3)>,
     last_flow_mass: Vec<f64>,
     frame: usize,
+    /// Whether frames include `polyhedra_NNNNNN.vtp` (the scene has polyhedral shapes).
+    polyhedra_series: bool,
+    /// The names of shape numbers (set again by a resumed run: shapes are not stored).
+    #[serde(skip)]
+    names: ShapeNames,
     /// Where and how large to draw the infinite plane walls, fixed at the start.
     wall_centre: DVec3,
     wall_half_size: f64,
 }
 
 impl RunOutput {
-    /// Creates the output folder (and its parents) for a run of `world`.
-    pub fn create(dir: &Path, world: &World, options: &OutputOptions) -> io::Result<Self> {
+    /// Creates the output folder (and its parents) for a run of `world` whose named shapes are
+    /// `names`, and writes `legend.csv` there.
+    pub fn create(
+        dir: &Path,
+        world: &World,
+        options: &OutputOptions,
+        names: ShapeNames,
+    ) -> io::Result<Self> {
         std::fs::create_dir_all(dir)?;
+        write_legend(&dir.join("legend.csv"), world, &names)?;
+        let polyhedra_series = names.has_polyhedra()
+            || world
+                .shapes()
+                .iter()
+                .any(|s| !matches!(s, Shape::Sphere(_)));
         let mut columns = ENERGY_COLUMNS.to_vec();
         if options.packing_region.is_some() {
             columns.push("packing_fraction");
@@ -98,6 +126,8 @@ impl RunOutput {
             last_impulse: wall_impulses(world),
             last_flow_mass: world.flow_meters().iter().map(|m| m.mass).collect(),
             frame: 0,
+            polyhedra_series,
+            names,
             wall_centre: 0.5 * (bounds.min + bounds.max),
             wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
         })
@@ -107,9 +137,40 @@ impl RunOutput {
         &self.dir
     }
 
-    /// Writes one frame of every series.
+    /// The names of shape numbers, for a run resumed from a checkpoint (which does not store
+    /// shapes).
+    pub fn set_shape_names(&mut self, names: ShapeNames) {
+        self.names = names;
+    }
+
+    /// Makes the series write into `dir` (a resumed run's output folder, which may have moved
+    /// since the checkpoint was written).
+    pub fn relocate(&mut self, dir: &Path) {
+        self.dir = dir.to_path_buf();
+        for series in [
+            &mut self.particles,
+            &mut self.walls,
+            &mut self.polyhedra,
+            &mut self.contacts,
+        ] {
+            series.relocate(dir);
+        }
+        for series in [&mut self.energy, &mut self.wall_forces, &mut self.flow] {
+            series.relocate(dir);
+        }
+    }
+
+    /// Writes one frame of every VTK series and a row of every CSV series.
     pub fn write(&mut self, world: &World) -> io::Result<()> {
+        self.write_frame(world)?;
+        self.write_rows(world)
+    }
+
+    /// Writes one frame of every VTK series.
+    pub fn write_frame(&mut self, world: &World) -> io::Result<()> {
         let b = world.bodies();
+        let values = BodyValues::of(world, &self.names);
+        let fields = values.fields(world);
         let name = format!("particles_{:06}.vtp", self.frame);
         write_particles(
             &self.dir.join(&name),
@@ -117,10 +178,8 @@ impl RunOutput {
                 ids: &b.id,
                 positions: &b.position,
                 radii: &b.bounding_radius,
-                velocities: &b.velocity,
-                angular_velocities: &b.angular_velocity,
-                materials: &b.material,
                 orientations: &b.orientation,
+                fields,
             },
             world.time(),
         )?;
@@ -135,18 +194,11 @@ impl RunOutput {
         )?;
         self.walls.add(world.time(), &name, 0)?;
 
-        if world
-            .shapes()
-            .iter()
-            .any(|s| matches!(s, Shape::Convex(_) | Shape::NonConvex(_)))
-        {
+        if self.polyhedra_series {
             let name = format!("polyhedra_{:06}.vtp", self.frame);
-            write_polygons(
-                &self.dir.join(&name),
-                &polyhedra_mesh(world),
-                "id",
-                world.time(),
-            )?;
+            let (mesh, of_body) = polyhedra_mesh(world);
+            let faces = FaceValues::gather(&fields, &of_body);
+            write_body_surfaces(&self.dir.join(&name), &mesh, &faces.fields(), world.time())?;
             self.polyhedra.add(world.time(), &name, 0)?;
         }
 
@@ -155,7 +207,14 @@ impl RunOutput {
             write_force_network(&self.dir.join(&name), &force_network(world), world.time())?;
             self.contacts.add(world.time(), &name, 0)?;
         }
+        self.frame += 1;
+        Ok(())
+    }
 
+    /// Writes a row of every CSV series: the energy ledger now, wall forces and flow over the
+    /// interval since the last row.
+    pub fn write_rows(&mut self, world: &World) -> io::Result<()> {
+        let b = world.bodies();
         let e = world.energy();
         let mut row = vec![
             world.time(),
@@ -167,6 +226,7 @@ impl RunOutput {
             e.removed,
             e.inserted,
             e.wall_work,
+            e.gravity_work,
             e.total(),
             e.contacts as f64,
             b.len() as f64,
@@ -175,12 +235,10 @@ impl RunOutput {
             row.push(packing_fraction(world, &region));
         }
         self.energy.push(&row)?;
-        self.write_interval_means(world)?;
-        self.frame += 1;
-        Ok(())
+        self.write_interval_means(world)
     }
 
-    /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last frame.
+    /// Rows of `wall_forces.csv` and `flow.csv` for the interval since the last row.
     fn write_interval_means(&mut self, world: &World) -> io::Result<()> {
         let interval = world.time() - self.last_time;
         if interval <= 0.0 {
@@ -230,6 +288,51 @@ impl RunOutput {
     }
 }
 
+/// Removes what an earlier run left in `dir`: its series (`.pvd`, numbered `.vtp` frames, the
+/// CSV files), its checkpoints, and temporaries of writes that were killed. A new run into a
+/// used folder must not leave frames of the old one beside its own (ParaView would show them),
+/// nor checkpoints that `resume` would take for its own. Other files are left alone. Returns how
+/// many files were removed.
+pub fn clear_previous_run(dir: &Path) -> io::Result<usize> {
+    let ours = |name: &str| {
+        let series = ["particles", "walls", "polyhedra", "contacts"];
+        let frame = |s: &str| {
+            name.strip_prefix(s)
+                .and_then(|r| r.strip_prefix('_'))
+                .and_then(|r| r.strip_suffix(".vtp"))
+                .is_some_and(|n| n.len() == 6 && n.bytes().all(|b| b.is_ascii_digit()))
+        };
+        let temporary = name.starts_with('.') && name.contains(".tmp-");
+        series
+            .iter()
+            .any(|s| frame(s) || name == format!("{s}.pvd"))
+            || ["energy.csv", "wall_forces.csv", "flow.csv", "legend.csv"].contains(&name)
+            || temporary
+    };
+    let checkpoint = |name: &str| {
+        (name.starts_with("step_") && name.ends_with(".ckpt"))
+            || (name.starts_with(".step_") && name.contains(".ckpt.tmp-"))
+    };
+    let mut removed = 0;
+    for (folder, keep) in [
+        (dir.to_path_buf(), &ours as &dyn Fn(&str) -> bool),
+        (dir.join("checkpoints"), &checkpoint),
+    ] {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries {
+            let entry = entry?;
+            let name = entry.file_name();
+            if entry.file_type()?.is_file() && name.to_str().is_some_and(keep) {
+                std::fs::remove_file(entry.path())?;
+                removed += 1;
+            }
+        }
+    }
+    Ok(removed)
+}
+
 /// Cumulative (impulse, angular impulse) of every wall, zero where no contact has happened yet.
 fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
     let walls = world.planes().len() + world.mesh_walls().len();
@@ -273,10 +376,11 @@ fn flow_columns(world: &World) -> Vec<String> {
     columns
 }
 
-/// Faces of every polyhedral body, in world coordinates.
-fn polyhedra_mesh(world: &World) -> PolygonMesh {
+/// Faces of every polyhedral body, in world coordinates, and each face's body.
+fn polyhedra_mesh(world: &World) -> (PolygonMesh, Vec<usize>) {
     let b = world.bodies();
     let mut mesh = PolygonMesh::default();
+    let mut of_body = Vec::new();
     for i in 0..b.len() {
         let first = mesh.vertices.len() as u32;
         let place = |v: &DVec3| b.position[i] + b.orientation[i] * *v;
@@ -288,6 +392,7 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
                     mesh.polygons
                         .push(face.vertices.iter().map(|&v| first + v as u32).collect());
                     mesh.cell_ids.push(b.id[i] as u32);
+                    of_body.push(i);
                 }
             }
             Shape::NonConvex(p) => {
@@ -296,11 +401,35 @@ fn polyhedra_mesh(world: &World) -> PolygonMesh {
                     mesh.polygons
                         .push(t.iter().map(|&v| first + v as u32).collect());
                     mesh.cell_ids.push(b.id[i] as u32);
+                    of_body.push(i);
                 }
             }
         }
     }
-    mesh
+    (mesh, of_body)
+}
+
+/// `legend.csv`: what the `material` and `shape` numbers of the VTK files stand for.
+fn write_legend(path: &Path, world: &World, names: &ShapeNames) -> io::Result<()> {
+    super::write_atomic(path, |w| {
+        writeln!(w, "kind,number,name")?;
+        for (k, m) in world.materials().iter().enumerate() {
+            writeln!(w, "material,{k},{}", csv_field(&m.name))?;
+        }
+        for (k, name) in names.names().enumerate() {
+            writeln!(w, "shape,{k},{}", csv_field(name))?;
+        }
+        Ok(())
+    })
+}
+
+/// A name as one CSV field (quoted when it holds a comma, quote or line break).
+fn csv_field(name: &str) -> String {
+    if name.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", name.replace('"', "\"\""))
+    } else {
+        name.to_string()
+    }
 }
 
 /// One line per contact: body centre to body centre, or body centre to the contact point on a

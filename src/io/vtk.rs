@@ -17,41 +17,91 @@ use glam::{DQuat, DVec3};
 
 use super::{atomic::write_atomic, format_f64, invalid_input};
 
-/// One snapshot of spherical particles, as parallel slices (one entry per
-/// particle), borrowed so that writing never copies the simulation state.
+/// What is written of every body, particle points and polyhedra faces alike, as parallel slices
+/// (one entry per point or face), borrowed so that writing never copies the simulation state.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyFields<'a> {
+    pub velocities: &'a [DVec3],
+    pub speeds: &'a [f64],
+    pub angular_velocities: &'a [DVec3],
+    /// Sum of the contact forces on the body [N] (gravity not included).
+    pub forces: &'a [DVec3],
+    /// Sum of the contact torques about the body's centre [N m].
+    pub torques: &'a [DVec3],
+    /// Other bodies touching it (a body touching in several places counts once).
+    pub coordination: &'a [u32],
+    /// Walls (planes and mesh walls) touching it.
+    pub wall_contacts: &'a [u32],
+    /// Material indices, for colouring by material (names in `legend.csv`).
+    pub materials: &'a [u32],
+    /// Shape indices (names in `legend.csv`).
+    pub shapes: &'a [u32],
+}
+
+impl<'a> BodyFields<'a> {
+    fn lengths(&self) -> [(&'static str, usize); 9] {
+        [
+            ("velocities", self.velocities.len()),
+            ("speeds", self.speeds.len()),
+            ("angular_velocities", self.angular_velocities.len()),
+            ("forces", self.forces.len()),
+            ("torques", self.torques.len()),
+            ("coordination", self.coordination.len()),
+            ("wall_contacts", self.wall_contacts.len()),
+            ("materials", self.materials.len()),
+            ("shapes", self.shapes.len()),
+        ]
+    }
+
+    fn arrays(&self) -> Vec<Array<'a>> {
+        vec![
+            Array::new("velocity", Values::Vec3(self.velocities)),
+            Array::new("speed", Values::F64(self.speeds)),
+            Array::new("angular_velocity", Values::Vec3(self.angular_velocities)),
+            Array::new("force", Values::Vec3(self.forces)),
+            Array::new("torque", Values::Vec3(self.torques)),
+            Array::new("coordination", Values::U32(self.coordination)),
+            Array::new("wall_contacts", Values::U32(self.wall_contacts)),
+            Array::new("material", Values::U32(self.materials)),
+            Array::new("shape", Values::U32(self.shapes)),
+        ]
+    }
+}
+
+/// Every slice of `lengths` has `n` entries, else `InvalidInput` naming the first that differs.
+fn check_lengths(what: &str, n: usize, lengths: &[(&str, usize)]) -> io::Result<()> {
+    match lengths.iter().find(|(_, len)| *len != n) {
+        Some((name, len)) => Err(invalid_input(format!(
+            "{what} has {n} entries but {len} {name}"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// One snapshot of the bodies as points (one per body, spheres and polyhedra alike).
 #[derive(Debug, Clone, Copy)]
 pub struct ParticleFrame<'a> {
-    /// Stable particle identities, to follow a particle across frames.
+    /// Stable body identities, to follow a body across frames.
     pub ids: &'a [u64],
     pub positions: &'a [DVec3],
+    /// Bounding radius (a sphere's radius).
     pub radii: &'a [f64],
-    pub velocities: &'a [DVec3],
-    pub angular_velocities: &'a [DVec3],
-    /// Material indices, for colouring by material.
-    pub materials: &'a [u32],
     /// Written as 4 components in the order w, x, y, z.
     pub orientations: &'a [DQuat],
+    pub fields: BodyFields<'a>,
 }
 
 impl ParticleFrame<'_> {
     /// Number of particles, after checking that all slices agree on it.
     fn checked_len(&self) -> io::Result<usize> {
         let n = self.ids.len();
-        let lengths = [
+        let own = [
             ("positions", self.positions.len()),
             ("radii", self.radii.len()),
-            ("velocities", self.velocities.len()),
-            ("angular_velocities", self.angular_velocities.len()),
-            ("materials", self.materials.len()),
             ("orientations", self.orientations.len()),
         ];
-        for (name, len) in lengths {
-            if len != n {
-                return Err(invalid_input(format!(
-                    "particle frame has {n} ids but {len} {name}"
-                )));
-            }
-        }
+        check_lengths("particle frame", n, &own)?;
+        check_lengths("particle frame", n, &self.fields.lengths())?;
         Ok(n)
     }
 }
@@ -67,22 +117,48 @@ impl ParticleFrame<'_> {
 /// Returns `InvalidInput` if the frame's slices differ in length.
 pub fn write_particles(path: &Path, frame: &ParticleFrame, time: f64) -> io::Result<()> {
     let n = frame.checked_len()?;
+    let mut point_data = vec![
+        Array::new("id", Values::U64(frame.ids)),
+        Array::new("radius", Values::F64(frame.radii)),
+        Array::new("orientation", Values::Quat(frame.orientations))
+            .with_component_names(&["w", "x", "y", "z"]),
+    ];
+    point_data.extend(frame.fields.arrays());
     let file = PolyDataFile {
         time,
         num_points: n,
         points: Values::Vec3(frame.positions),
-        point_data: vec![
-            Array::new("id", Values::U64(frame.ids)),
-            Array::new("radius", Values::F64(frame.radii)),
-            Array::new("velocity", Values::Vec3(frame.velocities)),
-            Array::new("angular_velocity", Values::Vec3(frame.angular_velocities)),
-            Array::new("material", Values::U32(frame.materials)),
-            Array::new("orientation", Values::Quat(frame.orientations))
-                .with_component_names(&["w", "x", "y", "z"]),
-        ],
+        point_data,
         point_attributes: r#" Scalars="radius" Vectors="velocity""#,
         cells: Cells::Verts(n),
         cell_data: Vec::new(),
+    };
+    write_atomic(path, |w| file.write_to(w))
+}
+
+/// Writes the faces of polyhedral bodies as a `.vtp` file of polygon cells, each with its body's
+/// `id` and `fields` as cell data (so faces can be coloured by speed, force, … directly).
+///
+/// Returns `InvalidInput` if `fields` and `body_ids` do not have one entry per polygon or a
+/// polygon refers to a vertex that does not exist.
+pub fn write_body_surfaces(
+    path: &Path,
+    mesh: &PolygonMesh,
+    fields: &BodyFields,
+    time: f64,
+) -> io::Result<()> {
+    check_lengths("body surface", mesh.polygons.len(), &fields.lengths())?;
+    check_polygons(mesh)?;
+    let mut cell_data = vec![Array::new("id", Values::U32(&mesh.cell_ids))];
+    cell_data.extend(fields.arrays());
+    let file = PolyDataFile {
+        time,
+        num_points: mesh.vertices.len(),
+        points: Values::Vec3(&mesh.vertices),
+        point_data: Vec::new(),
+        point_attributes: "",
+        cells: Cells::Polys(&mesh.polygons),
+        cell_data,
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -111,6 +187,22 @@ pub fn write_polygons(
     id_name: &'static str,
     time: f64,
 ) -> io::Result<()> {
+    check_polygons(mesh)?;
+    let num_vertices = mesh.vertices.len();
+    let file = PolyDataFile {
+        time,
+        num_points: num_vertices,
+        points: Values::Vec3(&mesh.vertices),
+        point_data: Vec::new(),
+        point_attributes: "",
+        cells: Cells::Polys(&mesh.polygons),
+        cell_data: vec![Array::new(id_name, Values::U32(&mesh.cell_ids))],
+    };
+    write_atomic(path, |w| file.write_to(w))
+}
+
+/// One cell id per polygon, and every polygon's vertices in the mesh.
+fn check_polygons(mesh: &PolygonMesh) -> io::Result<()> {
     if mesh.cell_ids.len() != mesh.polygons.len() {
         return Err(invalid_input(format!(
             "polygon mesh has {} polygons but {} cell ids",
@@ -126,16 +218,7 @@ pub fn write_polygons(
             )));
         }
     }
-    let file = PolyDataFile {
-        time,
-        num_points: num_vertices,
-        points: Values::Vec3(&mesh.vertices),
-        point_data: Vec::new(),
-        point_attributes: "",
-        cells: Cells::Polys(&mesh.polygons),
-        cell_data: vec![Array::new(id_name, Values::U32(&mesh.cell_ids))],
-    };
-    write_atomic(path, |w| file.write_to(w))
+    Ok(())
 }
 
 /// Contact forces as lines between the centres of the bodies in contact (a body–wall contact
@@ -192,13 +275,13 @@ pub fn write_force_network(path: &Path, network: &ForceNetwork, time: f64) -> io
 
 /// A `.pvd` collection indexing a time series of `.vtp` files, so ParaView
 /// opens the whole run as one animated data set with true simulation times.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct PvdSeries {
     path: PathBuf,
     entries: Vec<PvdEntry>,
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct PvdEntry {
     time: f64,
     file: String,
@@ -211,6 +294,13 @@ impl PvdSeries {
         Self {
             path,
             entries: Vec::new(),
+        }
+    }
+
+    /// The same series, written into `dir` under the same file name.
+    pub fn relocate(&mut self, dir: &Path) {
+        if let Some(name) = self.path.file_name() {
+            self.path = dir.join(name);
         }
     }
 
@@ -744,14 +834,28 @@ mod tests {
         let orientations: Vec<DQuat> = (0..n)
             .map(|i| DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), awkward(i)))
             .collect();
+        let speeds: Vec<f64> = velocities.iter().map(|v| v.length()).collect();
+        let forces: Vec<DVec3> = (0..n).map(|i| DVec3::splat(-awkward(i + 5))).collect();
+        let torques: Vec<DVec3> = (0..n).map(|i| DVec3::splat(awkward(i + 6))).collect();
+        let coordination: Vec<u32> = (0..n as u32).collect();
+        let wall_contacts: Vec<u32> = (0..n as u32).map(|i| i % 2).collect();
+        let shapes: Vec<u32> = (0..n as u32).map(|i| 3 * i).collect();
         let frame = ParticleFrame {
             ids: &ids,
             positions: &positions,
             radii: &radii,
-            velocities: &velocities,
-            angular_velocities: &angular,
-            materials: &materials,
             orientations: &orientations,
+            fields: BodyFields {
+                velocities: &velocities,
+                speeds: &speeds,
+                angular_velocities: &angular,
+                forces: &forces,
+                torques: &torques,
+                coordination: &coordination,
+                wall_contacts: &wall_contacts,
+                materials: &materials,
+                shapes: &shapes,
+            },
         };
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("particles.vtp");
@@ -783,6 +887,12 @@ mod tests {
         );
         assert_eq!(vtp.u64s("PointData/id"), ids);
         assert_eq!(vtp.u32s("PointData/material"), materials);
+        assert_eq!(bits(vtp.f64s("PointData/speed")), bits(&speeds));
+        assert_eq!(bits(vtp.f64s("PointData/force")), bits(&flat3(&forces)));
+        assert_eq!(bits(vtp.f64s("PointData/torque")), bits(&flat3(&torques)));
+        assert_eq!(vtp.u32s("PointData/coordination"), coordination);
+        assert_eq!(vtp.u32s("PointData/wall_contacts"), wall_contacts);
+        assert_eq!(vtp.u32s("PointData/shape"), shapes);
         let orientation = &vtp.arrays["PointData/orientation"];
         assert_eq!(orientation.components, 4);
         assert_eq!(orientation.attributes["ComponentName0"], "w");
@@ -808,10 +918,18 @@ mod tests {
             ids: &[],
             positions: &[],
             radii: &[],
-            velocities: &[],
-            angular_velocities: &[],
-            materials: &[],
             orientations: &[],
+            fields: BodyFields {
+                velocities: &[],
+                speeds: &[],
+                angular_velocities: &[],
+                forces: &[],
+                torques: &[],
+                coordination: &[],
+                wall_contacts: &[],
+                materials: &[],
+                shapes: &[],
+            },
         };
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("empty.vtp");
@@ -831,14 +949,23 @@ mod tests {
         let two = [DVec3::ONE, DVec3::ZERO];
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bad.vtp");
+        let fields = BodyFields {
+            velocities: &one,
+            speeds: &[1.0],
+            angular_velocities: &one,
+            forces: &one,
+            torques: &one,
+            coordination: &[0],
+            wall_contacts: &[0],
+            materials: &[0],
+            shapes: &[0],
+        };
         let good = ParticleFrame {
             ids: &[1],
             positions: &one,
             radii: &[1.0],
-            velocities: &one,
-            angular_velocities: &one,
-            materials: &[0],
             orientations: &[DQuat::IDENTITY],
+            fields,
         };
         let variants = [
             ParticleFrame {
@@ -851,15 +978,31 @@ mod tests {
             },
             ParticleFrame { radii: &[], ..good },
             ParticleFrame {
-                velocities: &two,
+                fields: BodyFields {
+                    velocities: &two,
+                    ..fields
+                },
                 ..good
             },
             ParticleFrame {
-                angular_velocities: &[],
+                fields: BodyFields {
+                    angular_velocities: &[],
+                    ..fields
+                },
                 ..good
             },
             ParticleFrame {
-                materials: &[0, 0],
+                fields: BodyFields {
+                    materials: &[0, 0],
+                    ..fields
+                },
+                ..good
+            },
+            ParticleFrame {
+                fields: BodyFields {
+                    coordination: &[],
+                    ..fields
+                },
                 ..good
             },
             ParticleFrame {

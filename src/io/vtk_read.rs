@@ -422,7 +422,7 @@ fn read_cells(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::vtk::{write_force_network, ForceNetwork};
+    use crate::io::vtk::{write_force_network, BodyFields, ForceNetwork};
     use crate::io::{write_particles, write_polygons, ParticleFrame, PolygonMesh, PvdSeries};
     use glam::DQuat;
 
@@ -431,10 +431,18 @@ mod tests {
             ids: &[7, 9],
             positions: &[DVec3::new(1.0, 2.0, 3.0), DVec3::new(-1.0, 0.5, 0.0)],
             radii: &[0.5, 0.25],
-            velocities: &[DVec3::new(3.0, 4.0, 0.0), DVec3::ZERO],
-            angular_velocities: &[DVec3::ZERO, DVec3::X],
-            materials: &[1, 0],
             orientations: &[DQuat::IDENTITY, DQuat::from_rotation_z(1.0)],
+            fields: BodyFields {
+                velocities: &[DVec3::new(3.0, 4.0, 0.0), DVec3::ZERO],
+                speeds: &[5.0, 0.0],
+                angular_velocities: &[DVec3::ZERO, DVec3::X],
+                forces: &[DVec3::ZERO, DVec3::Z],
+                torques: &[DVec3::ZERO; 2],
+                coordination: &[2, 0],
+                wall_contacts: &[0, 1],
+                materials: &[1, 0],
+                shapes: &[0, 3],
+            },
         };
         write_particles(path, &frame, 0.125).unwrap();
     }
@@ -457,15 +465,8 @@ mod tests {
         let q = data.point_array("orientation").unwrap();
         assert_eq!(q.tuple(0), [1.0, 0.0, 0.0, 0.0]);
         assert_eq!(
-            data.point_array_names(),
-            [
-                "id",
-                "radius",
-                "velocity",
-                "angular_velocity",
-                "material",
-                "orientation"
-            ]
+            data.point_array_names()[..4],
+            ["id", "radius", "orientation", "velocity"]
         );
     }
 

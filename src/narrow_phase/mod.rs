@@ -54,7 +54,7 @@ pub struct Geometry {
 /// The part of a contact's geometry every contact has: what the contact store keeps per entry
 /// (polyhedra's overlap volumes are kept apart, so that a sphere contact carries nothing it does
 /// not use).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactPoint {
     pub normal: DVec3,
     pub point: DVec3,

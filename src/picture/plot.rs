@@ -159,6 +159,7 @@ fn energy_plots(table: &Table, out: &Path) -> Result<Vec<PathBuf>, PictureError>
         "removed",
         "inserted",
         "wall_work",
+        "gravity_work",
     ] {
         let Some(mut line) = series(table, &time, column, column) else {
             continue;
@@ -350,8 +351,21 @@ mod tests {
         );
         for k in 0..10 {
             let t = 0.1 * k as f64;
-            let mut row = vec![t, 1.0 / (1.0 + t), 0.1, -t, 0.0, t, 0.0, 0.0, 0.0, 1.0];
-            row.extend([(100 * k) as f64, 50.0, 0.5 + 0.01 * t]);
+            let row: Vec<f64> = energy_columns
+                .iter()
+                .map(|&c| match c {
+                    "time" => t,
+                    "kinetic_translational" => 1.0 / (1.0 + t),
+                    "kinetic_rotational" => 0.1,
+                    "potential_gravity" => -t,
+                    "dissipated" => t,
+                    "total" => 1.0,
+                    "contacts" => (100 * k) as f64,
+                    "bodies" => 50.0,
+                    "packing_fraction" => 0.5 + 0.01 * t,
+                    _ => 0.0,
+                })
+                .collect();
             energy.push(&row).unwrap();
             if k > 0 {
                 flow.push(&[t, 0.2 * t, (3 * k) as f64, 0.2]).unwrap();

@@ -64,6 +64,8 @@ pub enum SceneError {
         text: String,
         message: String,
     },
+    #[error("{}: {message}", file.display())]
+    Override { file: PathBuf, message: String },
     #[error("{}{}: {key}: {message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
     Invalid {
         file: PathBuf,

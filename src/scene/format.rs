@@ -194,6 +194,13 @@ pub struct OutputSpec {
     /// Mass flow meters (`flow.csv`).
     #[serde(default, rename = "flow_meter")]
     pub flow_meters: Vec<FlowMeterSpec>,
+    /// Simulated seconds between checkpoints (`checkpoints/`); none: only at the end of the run
+    /// and when it is interrupted.
+    pub checkpoint_interval: Option<f64>,
+    /// Seconds between VTK frames; default `[simulation] output_interval`.
+    pub vtk_interval: Option<f64>,
+    /// Seconds between rows of the CSV series; default `[simulation] output_interval`.
+    pub csv_interval: Option<f64>,
 }
 
 /// A mass flow meter: through a plane (`point`, `normal`) or out of a box (`min`, `max`).
@@ -224,8 +231,10 @@ pub struct Simulation {
     #[serde(default)]
     pub force_time_step: bool,
     pub duration: f64,
-    #[serde(default = "default_gravity")]
-    pub gravity: Vec3,
+    /// [m/s²]; default [0, 0, -9.81] (see [`Simulation::gravity`]).
+    pub gravity: Option<Vec3>,
+    /// Rows [time, gx, gy, gz]: gravity over time, linear between rows (runs in stages).
+    pub gravity_table: Option<Vec<[f64; 4]>>,
     /// Seconds between outputs; default: 100 outputs over the duration.
     pub output_interval: Option<f64>,
     #[serde(default)]
@@ -240,8 +249,15 @@ pub struct Simulation {
     pub initial_overlap_tolerance: f64,
 }
 
-fn default_gravity() -> Vec3 {
-    [0.0, 0.0, -9.81]
+impl Simulation {
+    /// Gravity at the start: `gravity`, else the table's first row, else Earth's downwards.
+    pub fn gravity(&self) -> Vec3 {
+        match (self.gravity, &self.gravity_table) {
+            (Some(g), _) => g,
+            (None, Some(rows)) if !rows.is_empty() => [rows[0][1], rows[0][2], rows[0][3]],
+            _ => [0.0, 0.0, -9.81],
+        }
+    }
 }
 
 fn default_overlap_tolerance() -> f64 {
@@ -376,6 +392,8 @@ pub struct MotionSpec {
     pub velocity_table: Option<Vec<[f64; 4]>>,
     /// Rotation rate [revolutions per minute] about `axis` through `axis_point`.
     pub rpm: Option<f64>,
+    /// Rows [time, rpm]: rotation rate, linear between rows (runs in stages).
+    pub rpm_table: Option<Vec<[f64; 2]>>,
     pub axis: Option<Vec3>,
     #[serde(default)]
     pub axis_point: Vec3,

@@ -59,9 +59,35 @@ pub fn insert(
     let radii = draw_radii(spec, shape, (max - min).element_product(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let mut obstacles = Obstacles::new(existing, planes, meshes, r_max);
+    let what = Noun::of(spec);
     match spec.method {
-        InsertMethod::Lattice => lattice(min, max, &radii, &mut obstacles),
-        InsertMethod::Random => random(min, max, radii, &mut obstacles, &mut rng),
+        InsertMethod::Lattice => lattice(min, max, &radii, &mut obstacles, &what),
+        InsertMethod::Random => random(min, max, radii, &mut obstacles, &mut rng, &what),
+    }
+}
+
+/// What an insertion places, as its messages name it: spheres, or bodies of a named shape (whose
+/// bounding spheres are what is placed).
+struct Noun {
+    one: String,
+    many: String,
+    radius: &'static str,
+}
+
+impl Noun {
+    fn of(spec: &InsertSpec) -> Self {
+        match &spec.shape {
+            Some(name) => Self {
+                one: format!("'{name}' body"),
+                many: format!("'{name}' bodies"),
+                radius: "bounding radius",
+            },
+            None => Self {
+                one: "sphere".into(),
+                many: "spheres".into(),
+                radius: "radius",
+            },
+        }
     }
 }
 
@@ -208,6 +234,7 @@ fn lattice(
     max: DVec3,
     radii: &[f64],
     obstacles: &mut Obstacles,
+    what: &Noun,
 ) -> Result<Vec<Placed>, InsertError> {
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let spacing = 2.0 * r_max;
@@ -237,10 +264,11 @@ fn lattice(
         return Err(InsertError {
             message: format!(
                 "the region holds {sites} lattice sites of spacing {spacing:.4e} m \
-                 ({nx}×{ny}×{nz}), {} of them free of other bodies and walls, but {} spheres \
+                 ({nx}×{ny}×{nz}), {} of them free of other bodies and walls, but {} {} \
                  were asked for: enlarge the region or ask for fewer",
                 placed.len(),
-                radii.len()
+                radii.len(),
+                what.many
             ),
             placed,
         });
@@ -257,6 +285,7 @@ fn random(
     mut radii: Vec<f64>,
     obstacles: &mut Obstacles,
     rng: &mut SplitMix64,
+    what: &Noun,
 ) -> Result<Vec<Placed>, InsertError> {
     radii.sort_by(|a, b| b.total_cmp(a));
     let mut placed = Vec::with_capacity(radii.len());
@@ -265,7 +294,10 @@ fn random(
         let hi = max - DVec3::splat(radius);
         if lo.cmpgt(hi).any() {
             return Err(InsertError {
-                message: format!("a sphere of radius {radius:.4e} m does not fit in the region"),
+                message: format!(
+                    "a {} of {} {radius:.4e} m does not fit in the region",
+                    what.one, what.radius
+                ),
                 placed,
             });
         }
@@ -281,11 +313,13 @@ fn random(
         let Some(centre) = found else {
             return Err(InsertError {
                 message: format!(
-                    "placed only {} of {} spheres without overlap after {ATTEMPTS_PER_SPHERE} \
-                     tries for the next one: random filling jams near 30% volume fraction; \
-                     enlarge the region, ask for fewer spheres, or use method = \"lattice\"",
+                    "placed only {} of {} {} without overlap after {ATTEMPTS_PER_SPHERE} \
+                     tries for the next one: random filling jams near 30% volume fraction (of \
+                     the bounding spheres, for shapes); enlarge the region, ask for fewer, or \
+                     use method = \"lattice\"",
                     placed.len(),
-                    radii.len()
+                    radii.len(),
+                    what.many
                 ),
                 placed,
             });

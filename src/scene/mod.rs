@@ -9,6 +9,7 @@
 mod error;
 pub mod format;
 pub mod insert;
+pub mod overrides;
 pub mod shapes;
 mod time_step;
 mod validate;
@@ -22,6 +23,7 @@ use crate::flow::{FlowMeter, FlowSurface};
 use crate::material::{Material, PairOverride, PairTable};
 use crate::math::{DQuat, DVec3};
 use crate::shape::{Shape, Sphere};
+use crate::time_table::TimeTable;
 use crate::timestep;
 use crate::wall::Plane;
 use crate::world::{World, WorldConfig};
@@ -42,7 +44,14 @@ pub struct Scene {
 pub struct Prepared {
     pub world: World,
     pub duration: f64,
+    /// Simulated seconds between VTK frames.
     pub output_interval: f64,
+    /// Simulated seconds between rows of the CSV series (`energy.csv`, `wall_forces.csv`,
+    /// `flow.csv`).
+    pub csv_interval: f64,
+    /// Simulated seconds between checkpoints (`[output] checkpoint_interval`); `None`: only at
+    /// the end and when interrupted.
+    pub checkpoint_interval: Option<f64>,
     /// The stable-step estimate, and whether the step was chosen automatically.
     pub estimate: timestep::Estimate,
     pub automatic_time_step: bool,
@@ -53,6 +62,8 @@ pub struct Prepared {
     /// What building the scene repaired or decided that the user should know (welded mesh
     /// vertices, turned triangles).
     pub notes: Vec<String>,
+    /// The scene's `[shape.NAME]`s, by name (for the outputs' `shape` numbers).
+    pub shape_names: Vec<(String, Shape)>,
 }
 
 /// An `[[insert]]` that happens during the run, once or repeatedly.
@@ -200,9 +211,19 @@ fn plane_obstacles(planes: &[Plane]) -> Vec<insert::PlaneObstacle> {
 impl Scene {
     /// Reads and parses a scene file.
     pub fn load(file: &Path) -> Result<Self, SceneError> {
+        Self::load_with(file, &[])
+    }
+
+    /// Reads a scene file with some of its keys set otherwise (see [`overrides`]); the scene's
+    /// `source` is then the edited text, which is what checkpoints store.
+    pub fn load_with(file: &Path, set: &[overrides::Override]) -> Result<Self, SceneError> {
         let source = std::fs::read_to_string(file).map_err(|source| SceneError::Read {
             file: file.to_path_buf(),
             source,
+        })?;
+        let source = overrides::apply(&source, set).map_err(|message| SceneError::Override {
+            file: file.to_path_buf(),
+            message,
         })?;
         Self::parse(file, source)
     }
@@ -329,7 +350,13 @@ impl Scene {
         }
 
         let flow_meters = self.flow_meters()?;
-        let gravity = DVec3::from(spec.simulation.gravity);
+        let gravity_table = self.gravity_table()?;
+        let gravity = DVec3::from(spec.simulation.gravity());
+        // The time step allows for the fastest fall any stage of the run brings.
+        let strongest = gravity_table
+            .iter()
+            .flat_map(|t| t.knots().iter().map(|&(_, g)| g))
+            .fold(gravity, |a, g| if g.length() > a.length() { g } else { a });
         let (time_step, estimate, automatic) = self.time_step(time_step::StepInputs {
             bodies: &bodies,
             schedule: &schedule,
@@ -337,7 +364,7 @@ impl Scene {
             planes: &planes,
             mesh_walls: &mesh_walls,
             law: normal,
-            gravity,
+            gravity: strongest,
         })?;
         let world = World::new(WorldConfig {
             time_step,
@@ -358,6 +385,10 @@ impl Scene {
         .with_polyhedral_law(spec.contact.polyhedra)
         .with_mesh_walls(mesh_walls)
         .with_flow_meters(flow_meters);
+        let world = match gravity_table {
+            Some(table) => world.with_gravity_table(table),
+            None => world,
+        };
         let mut world = match &spec.domain {
             Some(d) => world.with_domain(crate::math::Aabb::new(
                 DVec3::from(d.min),
@@ -372,7 +403,17 @@ impl Scene {
         Ok(Prepared {
             world,
             duration,
-            output_interval: spec.simulation.output_interval.unwrap_or(duration / 100.0),
+            output_interval: spec
+                .output
+                .vtk_interval
+                .or(spec.simulation.output_interval)
+                .unwrap_or(duration / 100.0),
+            csv_interval: spec
+                .output
+                .csv_interval
+                .or(spec.simulation.output_interval)
+                .unwrap_or(duration / 100.0),
+            checkpoint_interval: spec.output.checkpoint_interval,
             estimate,
             automatic_time_step: automatic,
             schedule,
@@ -388,7 +429,33 @@ impl Scene {
                 .iter()
                 .filter_map(|(name, b)| b.note.as_ref().map(|n| format!("[shape.{name}] {n}")))
                 .collect(),
+            shape_names: shapes
+                .iter()
+                .map(|(name, b)| (name.clone(), b.shape.clone()))
+                .collect(),
         })
+    }
+
+    /// `[simulation] gravity_table`, checked.
+    fn gravity_table(&self) -> Result<Option<TimeTable<DVec3>>, SceneError> {
+        let sim = &self.spec.simulation;
+        let Some(rows) = &sim.gravity_table else {
+            return Ok(None);
+        };
+        let key = KeyPath::table("simulation").key("gravity_table");
+        if sim.gravity.is_some() {
+            return Err(self.error(
+                key,
+                "give either `gravity` (constant) or `gravity_table`, not both",
+            ));
+        }
+        let knots = rows
+            .iter()
+            .map(|r| (r[0], DVec3::new(r[1], r[2], r[3])))
+            .collect();
+        TimeTable::new(knots)
+            .map(Some)
+            .map_err(|e| self.error(key, format!("{e} (rows are [time, gx, gy, gz])")))
     }
 
     /// The `[[output.flow_meter]]`s.

@@ -14,7 +14,16 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     if let Some(interval) = s.simulation.output_interval {
         c.positive(sim.clone().key("output_interval"), interval, "s")?;
     }
-    c.vector(sim.clone().key("gravity"), s.simulation.gravity)?;
+    for (key, interval) in [
+        ("checkpoint_interval", s.output.checkpoint_interval),
+        ("vtk_interval", s.output.vtk_interval),
+        ("csv_interval", s.output.csv_interval),
+    ] {
+        if let Some(interval) = interval {
+            c.positive(KeyPath::table("output").key(key), interval, "s")?;
+        }
+    }
+    c.vector(sim.clone().key("gravity"), s.simulation.gravity())?;
     if let Some(skin) = s.simulation.skin {
         c.non_negative(sim.clone().key("skin"), skin, "m")?;
     }
@@ -269,13 +278,21 @@ fn check_insertion_size(
     r_max: f64,
 ) -> Result<(), SceneError> {
     let key = |k: &str| KeyPath::entry("insert", n).key(k);
+    // Shapes are placed by their bounding spheres.
+    let (one, many) = match &i.shape {
+        Some(name) => (
+            format!("'{name}' body of bounding radius"),
+            format!("'{name}' bodies of bounding radius"),
+        ),
+        None => ("sphere of radius".into(), "spheres of radius".into()),
+    };
     let extent: Vec<f64> = (0..3).map(|a| i.region_max[a] - i.region_min[a]).collect();
     if extent.iter().any(|&e| e < 2.0 * r_max) {
         return Err(c.scene.error(
             key("region_max"),
             format!(
-                "the region {extent:?} m is narrower than one sphere of radius {r_max} m on some \
-                 axis: enlarge the region or use smaller spheres"
+                "the region {extent:?} m is narrower than one {one} {r_max} m on some axis: \
+                 enlarge the region or use smaller bodies"
             ),
         ));
     }
@@ -288,9 +305,9 @@ fn check_insertion_size(
                 return Err(c.scene.error(
                     key("count"),
                     format!(
-                        "{count} spheres of radius ≥ {r_min} m take at least {needed:.3e} m³, more \
-                         than fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
-                         enlarge the region or ask for fewer spheres"
+                        "{count} {many} ≥ {r_min} m take at least {needed:.3e} m³, more than \
+                         fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
+                         enlarge the region or ask for fewer"
                     ),
                 ));
             }

@@ -104,11 +104,27 @@ fn motion(m: &MotionSpec) -> Result<WallMotion, (&'static str, String)> {
         }
         (None, None) => {}
     }
-    match (m.rpm, m.axis) {
-        (Some(rpm), Some(axis)) => {
+    let rates = match (m.rpm, &m.rpm_table) {
+        (Some(_), Some(_)) => {
+            return Err((
+                "rpm_table",
+                "give either `rpm` (constant) or `rpm_table`, not both".into(),
+            ))
+        }
+        (Some(rpm), None) => Some(("rpm", vec![(0.0, rpm)])),
+        (None, Some(rows)) => Some(("rpm_table", rows.iter().map(|r| (r[0], r[1])).collect())),
+        (None, None) => None,
+    };
+    match (rates, m.axis) {
+        (Some((key, table)), Some(axis)) => {
+            let point = DVec3::from(m.axis_point);
             motion = motion
-                .with_rotation(DVec3::from(m.axis_point), DVec3::from(axis), rpm)
-                .map_err(fail("axis"))?
+                .with_rotation_table(point, DVec3::from(axis), table)
+                .map_err(|e| match e {
+                    MotionError::Axis => ("axis", e.to_string()),
+                    MotionError::NonFinite => ("axis_point", e.to_string()),
+                    e => (key, e.to_string()),
+                })?
         }
         (Some(_), None) => {
             return Err((
@@ -119,7 +135,7 @@ fn motion(m: &MotionSpec) -> Result<WallMotion, (&'static str, String)> {
         (None, Some(_)) => {
             return Err((
                 "rpm",
-                "an `axis` is given without `rpm`: how fast does it turn?".into(),
+                "an `axis` is given without `rpm` or `rpm_table`: how fast does it turn?".into(),
             ))
         }
         (None, None) => {}

@@ -3,7 +3,7 @@ use crate::math::DVec3;
 use std::f64::consts::PI;
 
 /// A solid sphere.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sphere {
     pub radius: f64,
 }

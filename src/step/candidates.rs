@@ -35,6 +35,16 @@ pub struct NeighbourSearch {
     pub rebuilds: u64,
 }
 
+/// The part of [`NeighbourSearch`] that decides when the list is made again.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SearchState {
+    skin: f64,
+    reference_position: Vec<DVec3>,
+    reference_pose: Vec<WallPose>,
+    valid: bool,
+    rebuilds: u64,
+}
+
 impl NeighbourSearch {
     pub fn new(method: broad_phase::Method, skin: f64) -> Self {
         Self {
@@ -54,6 +64,29 @@ impl NeighbourSearch {
 
     pub fn skin(&self) -> f64 {
         self.skin
+    }
+
+    /// What decides when the list is made again, for a checkpoint.
+    pub fn state(&self) -> SearchState {
+        SearchState {
+            skin: self.skin,
+            reference_position: self.reference_position.clone(),
+            reference_pose: self.reference_pose.clone(),
+            valid: self.valid,
+            rebuilds: self.rebuilds,
+        }
+    }
+
+    /// Continues from `state` with a fresh broad phase: it finds the same candidates when the
+    /// list is next made (only its cost differs), and the list itself lives on in the contact
+    /// store's entries.
+    pub fn restore(&mut self, state: SearchState) {
+        self.broad_phase = self.method.build();
+        self.skin = state.skin;
+        self.reference_position = state.reference_position;
+        self.reference_pose = state.reference_pose;
+        self.valid = state.valid;
+        self.rebuilds = state.rebuilds;
     }
 
     pub fn set_skin(&mut self, skin: f64) {

@@ -19,7 +19,7 @@ pub mod spheres;
 pub mod timing;
 pub mod wall_loads;
 
-pub use candidates::NeighbourSearch;
+pub use candidates::{NeighbourSearch, SearchState};
 pub use detect::{detect_regions, RegionOutput, Scene};
 pub use forces::{accumulate, LawInputs};
 pub use timing::{StageTimes, Stopwatch};

@@ -6,7 +6,7 @@ use crate::math::DVec3;
 use crate::wall::{MeshWall, Plane, WallState};
 
 /// Running totals per wall (planes first, then mesh walls: the numbering of the output's `wall`).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct WallLoads {
     /// Time integral of the contact force on each wall since the start [N s].
     pub impulse: Vec<DVec3>,

@@ -1,6 +1,7 @@
 //! Prescribed motion of a mesh wall: translation (constant velocity or a velocity time table),
-//! rotation about an axis at a constant rate, both at once, and a conveyor-belt surface velocity
-//! of a wall that does not move.
+//! rotation about an axis (constant rate or a rate time table), both at once, and a conveyor-belt
+//! surface velocity of a wall that does not move. Time tables make runs in stages: a screw at
+//! rest while the trough fills, then turning.
 //!
 //! A moving wall keeps its triangles in the placement it had at time 0 (its reference frame);
 //! its [`WallPose`] at time t maps reference points to the world. Contacts are found with the
@@ -8,24 +9,14 @@
 //! built once, never per step.
 
 use crate::math::{is_finite_vec, DQuat, DVec3};
+use crate::time_table::{TableError, TimeTable};
 use thiserror::Error;
 
 /// Why a motion is not allowed.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MotionError {
-    #[error("the velocity table needs at least one row [time, vx, vy, vz]")]
-    EmptyTable,
-    #[error("velocity table row {row}: every value must be finite and time ≥ 0")]
-    NonFiniteRow { row: usize },
-    #[error(
-        "velocity table row {row}: time {time} is not after the previous row's {previous}; \
-         list the rows in increasing time"
-    )]
-    TimesNotIncreasing {
-        row: usize,
-        time: f64,
-        previous: f64,
-    },
+    #[error(transparent)]
+    Table(#[from] TableError),
     #[error("the rotation axis must be a finite, non-zero vector")]
     Axis,
     #[error("the rotation point, rate and surface velocity must be finite")]
@@ -34,7 +25,7 @@ pub enum MotionError {
 
 /// Where a moving wall is at one moment: world point = `rotation` × reference point +
 /// `translation`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WallPose {
     pub rotation: DQuat,
     pub translation: DVec3,
@@ -72,11 +63,12 @@ impl WallPose {
 /// How a wall moves. The default does not move.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WallMotion {
-    /// Knots (time [s], translation velocity [m/s]) in increasing time: the velocity is linear
-    /// between knots and constant before the first and after the last. Empty: no translation.
-    velocity_table: Vec<(f64, DVec3)>,
-    /// Angular velocity [rad/s] of the rotation (its direction the axis, right hand).
-    angular_velocity: DVec3,
+    /// Translation velocity [m/s] over time (see [`TimeTable`]). Empty: no translation.
+    velocity_table: TimeTable<DVec3>,
+    /// The rotation axis (unit, right hand), zero for none.
+    axis: DVec3,
+    /// Rotation rate [rad/s] about `axis` over time. Empty: no rotation.
+    spin: TimeTable<f64>,
     /// A point of the rotation axis at time 0 [m]; it moves with the translation.
     axis_point: DVec3,
     /// Velocity of the wall's surface material along the wall (a conveyor belt) [m/s]; only its
@@ -95,41 +87,40 @@ impl WallMotion {
         self.with_velocity_table(vec![(0.0, velocity)])
     }
 
-    /// Translation following a velocity time table (see [`WallMotion`]).
+    /// Translation following a velocity time table: knots (time [s], velocity [m/s]), see
+    /// [`TimeTable`].
     pub fn with_velocity_table(mut self, table: Vec<(f64, DVec3)>) -> Result<Self, MotionError> {
-        if table.is_empty() {
-            return Err(MotionError::EmptyTable);
-        }
-        for (row, &(time, v)) in table.iter().enumerate() {
-            if !(time.is_finite() && time >= 0.0 && is_finite_vec(v)) {
-                return Err(MotionError::NonFiniteRow { row });
-            }
-            if row > 0 && time <= table[row - 1].0 {
-                return Err(MotionError::TimesNotIncreasing {
-                    row,
-                    time,
-                    previous: table[row - 1].0,
-                });
-            }
-        }
-        self.velocity_table = table;
+        self.velocity_table = TimeTable::new(table)?;
         Ok(self)
     }
 
     /// Rotation at `rpm` revolutions per minute about the axis through `point` along `axis`
     /// (right hand: positive rpm turns counter-clockwise seen from the tip of `axis`).
-    pub fn with_rotation(
+    pub fn with_rotation(self, point: DVec3, axis: DVec3, rpm: f64) -> Result<Self, MotionError> {
+        if !rpm.is_finite() {
+            return Err(MotionError::NonFinite);
+        }
+        self.with_rotation_table(point, axis, vec![(0.0, rpm)])
+    }
+
+    /// Rotation about the axis through `point` along `axis` at a rate that follows the knots
+    /// (time [s], revolutions per minute), see [`TimeTable`]: the angle turned is the rate's
+    /// exact integral.
+    pub fn with_rotation_table(
         mut self,
         point: DVec3,
         axis: DVec3,
-        rpm: f64,
+        rpm: Vec<(f64, f64)>,
     ) -> Result<Self, MotionError> {
         let axis = axis.try_normalize().ok_or(MotionError::Axis)?;
-        if !(is_finite_vec(point) && rpm.is_finite()) {
+        if !is_finite_vec(point) {
             return Err(MotionError::NonFinite);
         }
+        let per_second = std::f64::consts::TAU / 60.0;
+        let spin = rpm.into_iter().map(|(t, n)| (t, n * per_second)).collect();
+        self.spin = TimeTable::new(spin)?;
+        self.axis = axis;
         self.axis_point = point;
-        self.angular_velocity = axis * (rpm * std::f64::consts::TAU / 60.0);
         Ok(self)
     }
 
@@ -144,8 +135,12 @@ impl WallMotion {
 
     /// True when the wall's triangles never leave their reference placement.
     pub fn keeps_place(&self) -> bool {
-        self.angular_velocity == DVec3::ZERO
-            && self.velocity_table.iter().all(|&(_, v)| v == DVec3::ZERO)
+        self.spin.knots().iter().all(|&(_, w)| w == 0.0)
+            && self
+                .velocity_table
+                .knots()
+                .iter()
+                .all(|&(_, v)| v == DVec3::ZERO)
     }
 
     /// True when the wall neither moves nor has a surface velocity.
@@ -153,47 +148,20 @@ impl WallMotion {
         self.keeps_place() && self.surface_velocity == DVec3::ZERO
     }
 
-    /// Angular velocity of the wall [rad/s].
-    pub fn angular_velocity(&self) -> DVec3 {
-        self.angular_velocity
+    /// Angular velocity of the wall at time `t` [rad/s].
+    pub fn angular_velocity(&self, t: f64) -> DVec3 {
+        self.axis * self.spin.value(t)
     }
 
     /// Translation velocity at time `t`.
     pub fn velocity(&self, t: f64) -> DVec3 {
-        let table = &self.velocity_table;
-        let Some(&(t_first, v_first)) = table.first() else {
-            return DVec3::ZERO;
-        };
-        if t <= t_first {
-            return v_first;
-        }
-        for pair in table.windows(2) {
-            let ((t0, v0), (t1, v1)) = (pair[0], pair[1]);
-            if t <= t1 {
-                return v0 + (v1 - v0) * ((t - t0) / (t1 - t0));
-            }
-        }
-        table[table.len() - 1].1
+        self.velocity_table.value(t)
     }
 
     /// Displacement from time 0 to `t` ≥ 0: the integral of the piecewise-linear velocity, exact
     /// (trapezoids between the knots).
     pub fn displacement(&self, t: f64) -> DVec3 {
-        if self.velocity_table.is_empty() || t <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let mut sum = DVec3::ZERO;
-        let mut from = 0.0;
-        for &(knot, _) in &self.velocity_table {
-            if knot >= t {
-                break;
-            }
-            if knot > from {
-                sum += 0.5 * (self.velocity(from) + self.velocity(knot)) * (knot - from);
-                from = knot;
-            }
-        }
-        sum + 0.5 * (self.velocity(from) + self.velocity(t)) * (t - from)
+        self.velocity_table.integral(t)
     }
 
     /// Where the wall is at time `t`.
@@ -201,7 +169,7 @@ impl WallMotion {
         if self.keeps_place() {
             return WallPose::IDENTITY;
         }
-        let rotation = DQuat::from_scaled_axis(self.angular_velocity * t);
+        let rotation = DQuat::from_scaled_axis(self.axis * self.spin.integral(t));
         let axis_now = self.axis_point + self.displacement(t);
         WallPose {
             rotation,
@@ -220,15 +188,25 @@ impl WallMotion {
     pub fn max_surface_speed(&self, vertices: &[DVec3]) -> f64 {
         let translation = self
             .velocity_table
+            .knots()
             .iter()
             .map(|&(_, v)| v.length())
             .fold(0.0, f64::max);
-        let w = self.angular_velocity.length();
+        // Linear between knots: the fastest is at a knot.
+        let w = self
+            .spin
+            .knots()
+            .iter()
+            .map(|&(_, w)| w.abs())
+            .fold(0.0, f64::max);
         let reach = if w > 0.0 {
-            let axis = self.angular_velocity / w;
             vertices
                 .iter()
-                .map(|&v| (v - self.axis_point).reject_from_normalized(axis).length())
+                .map(|&v| {
+                    (v - self.axis_point)
+                        .reject_from_normalized(self.axis)
+                        .length()
+                })
                 .fold(0.0, f64::max)
         } else {
             0.0
@@ -240,7 +218,7 @@ impl WallMotion {
     pub fn state(&self, t: f64) -> WallState {
         WallState {
             velocity: self.velocity(t),
-            angular_velocity: self.angular_velocity,
+            angular_velocity: self.angular_velocity(t),
             centre: self.reference_point(t),
             belt: self.surface_velocity,
         }
@@ -255,7 +233,7 @@ impl WallMotion {
 
 /// A moving wall at one moment: translation velocity, angular velocity about `centre` (the
 /// reference point, see [`WallMotion::reference_point`]) and belt velocity.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WallState {
     pub velocity: DVec3,
     pub angular_velocity: DVec3,
@@ -276,7 +254,7 @@ impl WallState {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::PI;
+    use std::f64::consts::{PI, TAU};
 
     #[test]
     fn velocity_table_is_piecewise_linear_and_its_integral_exact() {
@@ -324,6 +302,24 @@ mod tests {
     }
 
     #[test]
+    fn a_wall_at_rest_then_turning_has_turned_by_the_rate_integral() {
+        // At rest for 1 s, spun up to 60 rpm over the next second, then steady.
+        let m = WallMotion::fixed()
+            .with_rotation_table(DVec3::ZERO, DVec3::Z, vec![(1.0, 0.0), (2.0, 60.0)])
+            .unwrap();
+        assert!(!m.keeps_place());
+        assert_eq!(m.pose(0.9), WallPose::IDENTITY);
+        assert_eq!(m.angular_velocity(0.5), DVec3::ZERO);
+        assert!((m.angular_velocity(1.5) - DVec3::Z * PI).length() < 1e-15);
+        // By 2 s: half a turn's worth of a second at 1 rev/s on average ½ → π; by 2.25 s another
+        // quarter turn: 3π/2 in all.
+        let p = m.pose(2.25).to_world(DVec3::X);
+        assert!((p - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-14, "{p}");
+        assert!((m.state(3.0).angular_velocity - DVec3::Z * TAU).length() < 1e-14);
+        assert!((m.max_surface_speed(&[DVec3::X * 2.0]) - 2.0 * TAU).abs() < 1e-14);
+    }
+
+    #[test]
     fn belt_velocity_acts_along_the_surface_only() {
         let m = WallMotion::fixed()
             .with_surface_velocity(DVec3::new(1.0, 0.0, 1.0))
@@ -338,15 +334,18 @@ mod tests {
         let f = WallMotion::fixed;
         assert_eq!(
             f().with_velocity_table(vec![]),
-            Err(MotionError::EmptyTable)
+            Err(MotionError::Table(TableError::Empty))
         );
         assert!(matches!(
             f().with_velocity_table(vec![(1.0, DVec3::X), (1.0, DVec3::Y)]),
-            Err(MotionError::TimesNotIncreasing { row: 1, .. })
+            Err(MotionError::Table(TableError::TimesNotIncreasing {
+                row: 1,
+                ..
+            }))
         ));
         assert!(matches!(
             f().with_velocity_table(vec![(0.0, DVec3::NAN)]),
-            Err(MotionError::NonFiniteRow { row: 0 })
+            Err(MotionError::Table(TableError::NonFiniteRow { row: 0 }))
         ));
         assert_eq!(
             f().with_rotation(DVec3::ZERO, DVec3::ZERO, 10.0),

@@ -1,0 +1,109 @@
+//! What a run shows while it goes: a progress bar with the simulated time and the rate in
+//! particle-steps per second, the run's events as lines (insertions, checkpoints, notes), and the
+//! summary at the end.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polydem::run::{RunError, RunEvent};
+use polydem::scene::Prepared;
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+/// What the run did, counted as it went.
+pub struct Summary {
+    start: Instant,
+    first_step: u64,
+    /// Σ bodies × steps over the run (bodies come and go: the end count would misstate it).
+    particle_steps: f64,
+}
+
+impl Summary {
+    /// The closing lines: steps, time, throughput, bodies removed.
+    pub fn report(&self, prepared: &Prepared) {
+        let seconds = self.start.elapsed().as_secs_f64();
+        let w = &prepared.world;
+        println!(
+            "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s (t = {:.6} s, \
+             {} bodies)",
+            w.steps_done() - self.first_step,
+            self.particle_steps / seconds.max(1e-9),
+            w.time(),
+            w.bodies().len()
+        );
+        if w.bodies_removed() > 0 {
+            println!(
+                "             {} bodies left the domain and were removed",
+                w.bodies_removed()
+            );
+        }
+    }
+}
+
+/// Runs `go` with a progress bar on stderr fed by the run's events; returns its result and the
+/// summary.
+pub fn show<T>(
+    go: impl FnOnce(&mut dyn FnMut(RunEvent)) -> Result<T, RunError>,
+) -> Result<(T, Summary), RunError> {
+    let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {percent:>3}% {msg} | ETA {eta}")
+            .expect("the template is valid"),
+    );
+    bar.set_message("starting");
+    let mut summary = Summary {
+        start: Instant::now(),
+        first_step: 0,
+        particle_steps: 0.0,
+    };
+    let mut last_step = 0;
+    // indicatif draws nothing when stderr is not a terminal (a log file, CI): say it plainly then.
+    let say = |line: String| {
+        if bar.is_hidden() {
+            eprintln!("{line}")
+        } else {
+            bar.println(line)
+        }
+    };
+    // A flood feed falls short at every insertion: say why once per [[insert]].
+    let mut short_before = BTreeSet::new();
+    let mut observe = |event: RunEvent| match event {
+        RunEvent::Start { from, to } => {
+            summary.first_step = from;
+            last_step = from;
+            bar.set_length(to);
+            bar.set_position(from);
+            bar.reset_eta();
+        }
+        RunEvent::Progress(w) => {
+            let steps = w.steps_done() - last_step;
+            last_step = w.steps_done();
+            summary.particle_steps += steps as f64 * w.bodies().len() as f64;
+            let rate = summary.particle_steps / summary.start.elapsed().as_secs_f64().max(1e-9);
+            bar.set_position(w.steps_done());
+            bar.set_message(format!(
+                "t = {:.4} s | {} bodies | {rate:.2e} particle-steps/s",
+                w.time(),
+                w.bodies().len()
+            ));
+        }
+        RunEvent::Inserted(r) => {
+            let line = format!(
+                "t = {:.4} s: [[insert]] #{} added {} bodies",
+                r.time,
+                r.index + 1,
+                r.inserted
+            );
+            match &r.shortfall {
+                Some(why) if short_before.insert(r.index) => say(format!(
+                    "{line}; not all fitted: {why} (said once; later shortfalls of this \
+                     [[insert]] show only their count)"
+                )),
+                _ => say(line),
+            }
+        }
+        RunEvent::Checkpoint(path) => say(format!("checkpoint   {}", path.display())),
+        RunEvent::Note(note) => say(format!("note         {note}")),
+    };
+    let result = go(&mut observe);
+    bar.finish_and_clear();
+    result.map(|r| (r, summary))
+}

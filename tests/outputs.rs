@@ -1,0 +1,140 @@
+//! What a run writes for the user (issue #14): per-body data in every per-body output, a legend
+//! of material and shape numbers, as many polyhedra frames as particle frames when polyhedra
+//! arrive later, and separate intervals for VTK frames and CSV rows.
+
+use polydem::run::run;
+use polydem::scene::Scene;
+use std::path::Path;
+
+/// Spheres resting on a plate from the start; cubes dropped onto them at 0.02 s.
+const SCENE: &str = r#"
+[simulation]
+duration = 0.06
+output_interval = 0.01
+threads = 1
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.5
+[[material]]
+name = "steel, rough"
+density = 7800.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.3
+restitution = 0.5
+friction = 0.6
+[shape.cube]
+type = "box"
+edges = [0.004, 0.004, 0.004]
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "steel, rough"
+[[insert]]
+method = "lattice"
+material = "glass"
+region_min = [-0.01, -0.01, 0.0]
+region_max = [0.01, 0.01, 0.004]
+count = 16
+radius = 0.002
+[[insert]]
+method = "lattice"
+shape = "cube"
+material = "steel, rough"
+region_min = [-0.01, -0.01, 0.006]
+region_max = [0.01, 0.01, 0.014]
+count = 4
+time = 0.02
+[output]
+csv_interval = 0.002
+"#;
+
+fn run_scene(dir: &Path, text: &str) -> std::path::PathBuf {
+    let file = dir.join("scene.toml");
+    std::fs::write(&file, text).unwrap();
+    let mut prepared = Scene::load(&file).unwrap().build().unwrap();
+    let out = dir.join("out");
+    run(&mut prepared, &out, |_| {}).unwrap();
+    out
+}
+
+/// The `Name`s of a `.vtp` file's DataArrays (from its XML header).
+fn array_names(path: &Path) -> Vec<String> {
+    let bytes = std::fs::read(path).unwrap();
+    let end = bytes
+        .windows(b"<AppendedData".len())
+        .position(|w| w == b"<AppendedData")
+        .unwrap();
+    let header = String::from_utf8_lossy(&bytes[..end]);
+    header
+        .split("Name=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap().to_string())
+        .collect()
+}
+
+fn count(dir: &Path, prefix: &str) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            let name = name.to_string_lossy();
+            name.starts_with(prefix) && name.ends_with(".vtp")
+        })
+        .count()
+}
+
+#[test]
+fn every_per_body_output_carries_the_body_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_scene(dir.path(), SCENE);
+    let fields = [
+        "velocity",
+        "speed",
+        "angular_velocity",
+        "force",
+        "torque",
+        "coordination",
+        "wall_contacts",
+        "material",
+        "shape",
+    ];
+    let particles = array_names(&out.join("particles_000006.vtp"));
+    let faces = array_names(&out.join("polyhedra_000006.vtp"));
+    for f in fields {
+        assert!(particles.iter().any(|n| n == f), "{f} not in {particles:?}");
+        assert!(faces.iter().any(|n| n == f), "{f} not in {faces:?}");
+    }
+    assert!(faces.iter().any(|n| n == "id"));
+    let legend = std::fs::read_to_string(out.join("legend.csv")).unwrap();
+    assert_eq!(
+        legend,
+        "kind,number,name\nmaterial,0,glass\nmaterial,1,\"steel, rough\"\nshape,0,sphere\n\
+         shape,1,cube\n"
+    );
+}
+
+#[test]
+fn polyhedra_arriving_later_still_get_a_frame_each_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_scene(dir.path(), SCENE);
+    assert_eq!(count(&out, "particles_"), 7);
+    assert_eq!(count(&out, "polyhedra_"), 7);
+    let pvd = std::fs::read_to_string(out.join("polyhedra.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 7);
+}
+
+#[test]
+fn frames_and_csv_rows_have_their_own_intervals() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_scene(dir.path(), SCENE);
+    let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
+    // A header, the start, then every 2 ms for 60 ms.
+    assert_eq!(energy.lines().count(), 1 + 1 + 30, "{energy}");
+    let wall = std::fs::read_to_string(out.join("wall_forces.csv")).unwrap();
+    assert_eq!(wall.lines().count(), 1 + 30);
+    assert_eq!(count(&out, "particles_"), 7);
+}
