@@ -23,11 +23,15 @@ impl Table {
 /// line is wrong.
 pub fn read_table(path: &Path) -> Result<Table, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut lines = text.lines().enumerate();
+    // A run that is still going appends whole lines; a last line without its line break is
+    // one being written, and is left out rather than refused.
+    let complete = match text.rfind('\n') {
+        Some(end) if !text.ends_with('\n') => &text[..=end],
+        _ => &text[..],
+    };
+    let mut lines = complete.lines().enumerate();
     let columns: Vec<String> = match lines.next() {
-        Some((_, header)) if !header.trim().is_empty() => {
-            header.split(',').map(|c| c.trim().to_string()).collect()
-        }
+        Some((_, header)) if !header.trim().is_empty() => header_fields(header),
         _ => return Err(format!("{}: empty file, no header line", path.display())),
     };
     let mut rows = Vec::new();
@@ -58,6 +62,28 @@ pub fn read_table(path: &Path) -> Result<Table, String> {
     })
 }
 
+/// The column names of a header line, unquoted as RFC 4180 says (a name holding a comma, such
+/// as a flow meter's, is written in double quotes, a quote inside doubled).
+fn header_fields(line: &str) -> Vec<String> {
+    let mut fields = Vec::new();
+    let mut field = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(std::mem::take(&mut field).trim().to_string()),
+            (c, _) => field.push(c),
+        }
+    }
+    fields.push(field.trim().to_string());
+    fields
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,6 +99,22 @@ mod tests {
         assert_eq!(table.columns, ["time", "kinetic"]);
         assert_eq!(table.column("kinetic"), Some(vec![1.5, 1e-300]));
         assert_eq!(table.column("nothing"), None);
+    }
+
+    #[test]
+    fn quoted_names_and_a_line_being_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut series = CsvSeries::new(
+            dir.path().join("f.csv"),
+            &["time", "out, left_mass", "say \"hi\""],
+        );
+        series.push(&[0.0, 1.0, 2.0]).unwrap();
+        let mut text = std::fs::read_to_string(series.path()).unwrap();
+        text.push_str("0.1,2");
+        std::fs::write(series.path(), text).unwrap();
+        let table = read_table(series.path()).unwrap();
+        assert_eq!(table.columns, ["time", "out, left_mass", "say \"hi\""]);
+        assert_eq!(table.rows, [vec![0.0, 1.0, 2.0]]);
     }
 
     #[test]

@@ -16,9 +16,9 @@ pub struct ColourBar {
     pub label: String,
     pub low: f64,
     pub high: f64,
-    /// For a field of categories (material, shape): the values present, each shown as a swatch
-    /// of its colour instead of the continuous scale.
-    pub categories: Vec<u32>,
+    /// For a field of categories (material, shape): the values present with their labels, each
+    /// shown as a swatch of its colour instead of the continuous scale.
+    pub categories: Vec<(u32, String)>,
 }
 
 /// Pixels kept free for the title at the top and the colour bar at the right of a picture
@@ -79,17 +79,17 @@ pub fn draw(
         if !bar.categories.is_empty() {
             let n = bar.categories.len() as f64;
             let step = (f64::from(y1 - y0) / n).min(2.0 * size);
-            for (k, &c) in bar.categories.iter().enumerate() {
+            for (k, (c, label)) in bar.categories.iter().enumerate() {
                 let top = y0 + (k as f64 * step) as i32;
                 let bottom = top + (0.8 * step) as i32;
-                let [r, g, b] = to_u8(category(c as usize));
+                let [r, g, b] = to_u8(category(*c as usize));
                 root.draw(&Rectangle::new(
                     [(x0, top), (x1, bottom)],
                     RGBColor(r, g, b).filled(),
                 ))
                 .map_err(|e| draw_error(&e))?;
                 root.draw_text(
-                    &c.to_string(),
+                    label,
                     &text(size * 0.8, Pos::new(HPos::Left, VPos::Center)),
                     (x1 + 7, (top + bottom) / 2),
                 )

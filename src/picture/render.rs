@@ -349,6 +349,16 @@ pub fn render_snapshot(
     };
     categories.sort_unstable();
     categories.dedup();
+    let categories: Vec<(u32, String)> = categories
+        .into_iter()
+        .map(|c| {
+            let label = match snap.legend.get(&(options.colour.clone(), c)) {
+                Some(name) => format!("{c} {name}"),
+                None => c.to_string(),
+            };
+            (c, label)
+        })
+        .collect();
     let colour_of = |i: usize| -> Rgb {
         if options.force_network {
             [0.8, 0.8, 0.8]

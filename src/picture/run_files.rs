@@ -2,6 +2,7 @@
 //! from the other series, the data set written at the same time (`polyhedra.pvd`, `walls.pvd`,
 //! `contacts.pvd`, each only when the run wrote it).
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -41,6 +42,7 @@ pub struct RunFiles {
     polyhedra: Vec<PvdEntry>,
     walls: Vec<PvdEntry>,
     contacts: Vec<PvdEntry>,
+    legend: Legend,
 }
 
 /// One frame: what each series holds at one time.
@@ -52,6 +54,40 @@ pub struct Snapshot {
     pub polyhedra: Option<(PathBuf, PolyData)>,
     pub walls: Option<(PathBuf, PolyData)>,
     pub contacts: Option<(PathBuf, PolyData)>,
+    /// Names of the material and shape numbers (`legend.csv`), empty when the run wrote none.
+    pub legend: Legend,
+}
+
+/// What the `material` and `shape` numbers stand for: (kind, number) → name.
+pub type Legend = HashMap<(String, u32), String>;
+
+/// Reads `legend.csv` (`kind,number,name`, the name quoted when it holds a comma or quote);
+/// an empty legend when there is no such file.
+pub fn read_legend(path: &Path) -> Result<Legend, PictureError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Legend::new()),
+        Err(e) => return Err(PictureError::file(path, e.to_string())),
+    };
+    let mut legend = Legend::new();
+    for (n, line) in text.lines().enumerate().skip(1) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let bad = || PictureError::file(path, format!("line {}: not kind,number,name", n + 1));
+        let mut parts = line.splitn(3, ',');
+        let (Some(kind), Some(number), Some(name)) = (parts.next(), parts.next(), parts.next())
+        else {
+            return Err(bad());
+        };
+        let number: u32 = number.trim().parse().map_err(|_| bad())?;
+        let name = match name.strip_prefix('"').and_then(|n| n.strip_suffix('"')) {
+            Some(inner) => inner.replace("\"\"", "\""),
+            None => name.to_string(),
+        };
+        legend.insert((kind.trim().to_string(), number), name);
+    }
+    Ok(legend)
 }
 
 impl RunFiles {
@@ -82,6 +118,7 @@ impl RunFiles {
             polyhedra: optional("polyhedra.pvd")?,
             walls: optional("walls.pvd")?,
             contacts: optional("contacts.pvd")?,
+            legend: read_legend(&dir.join("legend.csv"))?,
         })
     }
 
@@ -137,6 +174,7 @@ impl RunFiles {
             } else {
                 None
             },
+            legend: self.legend.clone(),
         })
     }
 }
@@ -162,6 +200,27 @@ mod tests {
             .parse::<FrameChoice>()
             .unwrap_err()
             .contains("first"));
+    }
+
+    #[test]
+    fn the_legend_names_materials_and_shapes() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("legend.csv");
+        assert!(read_legend(&path).unwrap().is_empty());
+        std::fs::write(
+            &path,
+            "kind,number,name\nmaterial,0,glass\nshape,1,\"a, \"\"b\"\"\"\n",
+        )
+        .unwrap();
+        let legend = read_legend(&path).unwrap();
+        assert_eq!(legend[&("material".to_string(), 0)], "glass");
+        assert_eq!(legend[&("shape".to_string(), 1)], "a, \"b\"");
+        std::fs::write(&path, "kind,number,name\nmaterial,x,glass\n").unwrap();
+        let err = read_legend(&path).unwrap_err().to_string();
+        assert!(
+            err.contains("legend.csv") && err.contains("line 2"),
+            "{err}"
+        );
     }
 
     #[test]
