@@ -16,8 +16,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 mod resume;
+mod trial;
+mod watchdog;
 
 pub use resume::{resume, ResumeOptions};
+pub use trial::{bodies_to_come, Trial};
+pub use watchdog::{EnergyWatch, ALLOWED_DRIFT};
 
 /// Why a run stopped before its end.
 #[derive(Debug)]
@@ -135,6 +139,8 @@ struct Session<'a> {
     /// The polyhedral shapes the scene built (see [`templates`]).
     templates: Vec<Shape>,
     fingerprint: u64,
+    /// Stops a run whose energy ledger no longer closes.
+    watch: EnergyWatch,
 }
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
@@ -171,12 +177,14 @@ pub fn run_with(
     output.write(&prepared.world)?;
     let templates = templates(prepared);
     let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let watch = EnergyWatch::new(&prepared.world);
     let mut session = Session {
         prepared,
         output,
         control,
         templates,
         fingerprint,
+        watch,
     };
     session.drive(observe)?;
     Ok(session.output)
@@ -228,7 +236,9 @@ impl Session<'_> {
             while self.prepared.world.steps_done() < until && !stopped {
                 let chunk = (until - self.prepared.world.steps_done()).min(200);
                 self.prepared.world.run_steps(chunk);
-                if let Some(why) = blow_up(&self.prepared.world) {
+                if let Some(why) =
+                    blow_up(&self.prepared.world).or_else(|| self.watch.check(&self.prepared.world))
+                {
                     return Err(RunError::BlowUp(why));
                 }
                 observe(RunEvent::Progress(&self.prepared.world));

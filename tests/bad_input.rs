@@ -648,3 +648,147 @@ fn command_line_overrides_are_checked_like_the_file() {
         text(&bad.stderr)
     );
 }
+
+/// `check` on a scene whose bodies arrive during the run says what will come, and estimates the
+/// run time from a short trial.
+#[test]
+fn check_tells_the_bodies_to_come_and_an_estimated_run_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = plus(
+        r#"
+[[insert]]
+method = "random"
+material = "glass"
+region_min = [-0.05, -0.05, 0.02]
+region_max = [0.05, 0.05, 0.04]
+count = 5
+radius = 0.002
+time = 0.0005
+every = 0.0005
+"#,
+    );
+    let out = checked(dir.path(), &scene);
+    // From 0.5 ms every 0.5 ms to the end at 2 ms: 4 times, 20 bodies at most.
+    assert!(
+        out.contains("[[insert]] #1: 5 'sphere' bodies every 0.0005 s from 0.0005 s, 4 times: up to 20 bodies"),
+        "{out}"
+    );
+    assert!(out.contains("estimate     roughly "), "{out}");
+}
+
+#[test]
+fn wall_names_must_be_usable_as_column_heads_and_distinct() {
+    let named = |name: &str| {
+        edit(
+            "material = \"glass\"\n\n[[particle]]",
+            &format!("material = \"glass\"\nname = \"{name}\"\n\n[[particle]]"),
+        )
+    };
+    refused(
+        Some(&named("floor plate")),
+        &["[[plane]] #1 name", "letters, digits"],
+    );
+    let two = format!(
+        "{}\n[[plane]]\nname = \"floor\"\npoint = [0.0, 0.0, 1.0]\nnormal = [0.0, 0.0, -1.0]\nmaterial = \"glass\"\n",
+        named("floor")
+    );
+    refused(
+        Some(&two),
+        &["[[plane]] #2 name", "two walls are called \"floor\""],
+    );
+}
+
+/// A mesh wall pushes bodies out of the side its triangles face. One that faces away from the
+/// bodies falling onto it would let them through or shoot them out (issue #12): refused, with
+/// the way to turn it.
+#[test]
+fn mesh_walls_facing_away_from_the_bodies_are_refused() {
+    // A closed box whose triangles face out (a solid block), with the bead inside it.
+    let block = plus(
+        "\n[[mesh_wall]]\nmaterial = \"glass\"\n\
+         generator = { type = \"box\", min = [-0.1, -0.1, -0.1], max = [0.1, 0.1, 0.1], facing = \"outward\" }\n",
+    );
+    refused(
+        Some(&block),
+        &["[[particle]] #1", "back of [[mesh_wall]] #1", "facing"],
+    );
+    // The same box facing in (a container) holds it.
+    let dir = tempfile::tempdir().unwrap();
+    checked(dir.path(), &block.replace("\"outward\"", "\"inward\""));
+
+    // A chute from a mesh file wound the wrong way, under the bead.
+    let stl = dir.path().join("chute.stl");
+    std::fs::write(
+        &stl,
+        "solid chute\n\
+         facet normal 0 0 -1\n outer loop\n  vertex -0.1 -0.1 0.001\n  vertex -0.1 0.1 0.001\n  vertex 0.1 -0.1 0.001\n endloop\nendfacet\n\
+         facet normal 0 0 -1\n outer loop\n  vertex 0.1 -0.1 0.001\n  vertex -0.1 0.1 0.001\n  vertex 0.1 0.1 0.001\n endloop\nendfacet\n\
+         endsolid chute\n",
+    )
+    .unwrap();
+    let chute = |flip: &str| {
+        plus(&format!(
+            "\n[[mesh_wall]]\nmaterial = \"glass\"\nfile = {:?}\n{flip}\n",
+            stl.display().to_string()
+        ))
+    };
+    refused(
+        Some(&chute("")),
+        &["back of [[mesh_wall]] #1", "flip = true"],
+    );
+    checked(dir.path(), &chute("flip = true"));
+}
+
+/// A forced time step 30 times the stable one: every number stays finite, but the energy grows
+/// a thousandfold within a few steps. The energy watchdog stops the run and says why.
+#[test]
+fn a_run_whose_energy_grows_stops_and_says_why() {
+    let scene = r#"[simulation]
+duration = 0.05
+output_interval = 0.005
+time_step = 6.0e-4
+force_time_step = true
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "glass"
+
+[[insert]]
+method = "random"
+seed = 1
+material = "glass"
+region_min = [-0.01, -0.01, 0.0]
+region_max = [0.01, 0.01, 0.05]
+count = 50
+radius = 0.002
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, scene).unwrap();
+    let output = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    for expected in ["blew up", "energy ledger", "time step", SCENE] {
+        assert!(
+            stderr.contains(expected),
+            "'{expected}' missing from:\n{stderr}"
+        );
+    }
+    // Stopped early, not at the end.
+    let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
+    assert!(pvd.matches("<DataSet").count() < 5, "{pvd}");
+}

@@ -156,6 +156,8 @@ rotation = [{rx}, {ry}, {rz}]
     let options = OutputOptions {
         force_network: true,
         packing_region: None,
+        extent: None,
+        wall_names: Vec::new(),
     };
     let mut out = RunOutput::create(dir.path(), w, &options, Default::default()).unwrap();
     out.write(w).unwrap();

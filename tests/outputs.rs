@@ -1,6 +1,6 @@
 //! What a run writes for the user (issue #14): per-body data in every per-body output, a legend
 //! of material and shape numbers, as many polyhedra frames as particle frames when polyhedra
-//! arrive later, and separate intervals for VTK frames and CSV rows.
+//! arrive later, separate intervals for VTK frames and CSV rows, walls named in their columns.
 
 use polydem::run::run;
 use polydem::scene::Scene;
@@ -30,6 +30,7 @@ friction = 0.6
 type = "box"
 edges = [0.004, 0.004, 0.004]
 [[plane]]
+name = "floor"
 point = [0.0, 0.0, 0.0]
 normal = [0.0, 0.0, 1.0]
 material = "steel, rough"
@@ -136,5 +137,10 @@ fn frames_and_csv_rows_have_their_own_intervals() {
     assert_eq!(energy.lines().count(), 1 + 1 + 30, "{energy}");
     let wall = std::fs::read_to_string(out.join("wall_forces.csv")).unwrap();
     assert_eq!(wall.lines().count(), 1 + 30);
+    // The named wall heads its columns by name.
+    assert!(
+        wall.starts_with("time,floor_fx,floor_fy,floor_fz,floor_tx,"),
+        "{wall}"
+    );
     assert_eq!(count(&out, "particles_"), 7);
 }

@@ -379,18 +379,70 @@ fn describe(scene: &Path, p: &Prepared) {
         );
     }
     println!("threads      {}", w.threads());
+    for s in &p.schedule {
+        let (most, times) = polydem::run::bodies_to_come(s, p.duration);
+        let what = s.spec.shape.as_deref().unwrap_or("sphere");
+        let how_many = match s.spec.count {
+            Some(n) => format!("{n} '{what}' bodies"),
+            None => format!("'{what}' bodies to a volume fraction"),
+        };
+        let when = match s.spec.every {
+            Some(every) => format!("every {every} s from {} s, {times} times", s.next_time),
+            None => format!("at {} s", s.next_time),
+        };
+        let total = if most > 0 {
+            format!(": up to {most} bodies")
+        } else {
+            String::new()
+        };
+        println!(
+            "insert       [[insert]] #{}: {how_many} {when}{total}",
+            s.index + 1
+        );
+    }
     for note in &p.notes {
         println!("note         {note}");
     }
 }
 
 fn check(scene: &Path, changes: &SceneChanges) -> Result<(), String> {
-    let prepared = load(scene, changes, None)?
-        .build()
-        .map_err(|e| e.to_string())?;
+    let loaded = load(scene, changes, None)?;
+    let prepared = loaded.build().map_err(|e| e.to_string())?;
     describe(scene, &prepared);
     println!("scene is valid");
+    // A short trial on a world of its own (the trial moves it on).
+    let mut trial_world = loaded.build().map_err(|e| e.to_string())?;
+    let trial = polydem::run::Trial::run(&mut trial_world, 2.0);
+    let steps = polydem::run::total_steps(&prepared);
+    let to_come: u64 = prepared
+        .schedule
+        .iter()
+        .map(|s| polydem::run::bodies_to_come(s, prepared.duration).0)
+        .sum();
+    // Bodies inserted during the run are there for part of it: count them for half.
+    let bodies = prepared.world.bodies().len() as f64 + 0.5 * to_come as f64;
+    let seconds = trial.estimate(steps, bodies);
+    println!(
+        "estimate     roughly {} for the run: its first {} steps took {:.2} s, and the rest \
+         is taken at that pace, with the bodies still to come counted for half the run (a bed \
+         that settles into many contacts runs slower; a full hopper holds fewer bodies than \
+         its feed offers)",
+        human_duration(seconds),
+        trial.steps,
+        trial.seconds
+    );
     Ok(())
+}
+
+/// `seconds` as a person would say it: 45 s, 12 min, 3.5 h.
+fn human_duration(seconds: f64) -> String {
+    if seconds < 90.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 5400.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
+    }
 }
 
 fn run(

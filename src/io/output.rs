@@ -5,7 +5,8 @@
 //!   velocity, speed, angular velocity, contact force and torque, coordination number, walls
 //!   touching, material, shape);
 //! - `legend.csv`: the names of the material and shape numbers;
-//! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn as squares around the particles;
+//! - `walls.pvd` → `walls_NNNNNN.vtp`: plane walls drawn where they cut the scene's extent, mesh
+//!   walls where they are;
 //! - `polyhedra.pvd` → `polyhedra_NNNNNN.vtp`: the faces of every polyhedral body at its current
 //!   pose (the triangles of a non-convex one), with the body's `id` and fields per face (when the
 //!   scene has polyhedral shapes: from the first frame on, empty until the first one arrives);
@@ -57,6 +58,12 @@ pub struct OutputOptions {
     pub force_network: bool,
     /// Report the packing fraction of this box in `energy.csv`.
     pub packing_region: Option<Aabb>,
+    /// Where the scene happens (bodies, insertion regions, walls; see `Scene::extent`): plane
+    /// walls are drawn as far as it reaches. `None`: around the bodies at the start.
+    pub extent: Option<Aabb>,
+    /// Names of the walls in `wall_forces.csv`, planes first, then mesh walls; a wall without
+    /// one is `wallN` (its number in `walls.pvd`).
+    pub wall_names: Vec<String>,
 }
 
 /// The files of one run and what they have recorded so far. Plain data, so that a checkpoint can
@@ -82,9 +89,8 @@ pub struct RunOutput {
     /// The names of shape numbers (set again by a resumed run: shapes are not stored).
     #[serde(skip)]
     names: ShapeNames,
-    /// Where and how large to draw the infinite plane walls, fixed at the start.
-    wall_centre: DVec3,
-    wall_half_size: f64,
+    /// How far to draw the infinite plane walls, fixed at the start.
+    wall_bounds: Aabb,
 }
 
 impl RunOutput {
@@ -108,10 +114,14 @@ impl RunOutput {
             columns.push("packing_fraction");
         }
         let b = world.bodies();
-        let bounds = (0..b.len())
-            .map(|i| Aabb::around_sphere(b.position[i], b.bounding_radius[i]))
-            .reduce(|a, c| a.union(&c))
-            .unwrap_or(Aabb::new(DVec3::ZERO, DVec3::ZERO));
+        let bounds = options.extent.unwrap_or_else(|| {
+            (0..b.len())
+                .map(|i| Aabb::around_sphere(b.position[i], b.bounding_radius[i]))
+                .reduce(|a, c| a.union(&c))
+                .unwrap_or(Aabb::new(DVec3::ZERO, DVec3::ZERO))
+        });
+        // A margin, so that walls reach a little beyond the bodies at the scene's edge.
+        let bounds = bounds.enlarged(0.05 * bounds.extent().max_element());
         Ok(Self {
             dir: dir.to_path_buf(),
             particles: PvdSeries::new(dir.join("particles.pvd")),
@@ -119,7 +129,10 @@ impl RunOutput {
             polyhedra: PvdSeries::new(dir.join("polyhedra.pvd")),
             contacts: PvdSeries::new(dir.join("contacts.pvd")),
             energy: CsvSeries::new(dir.join("energy.csv"), &columns),
-            wall_forces: CsvSeries::new(dir.join("wall_forces.csv"), &wall_force_columns(world)),
+            wall_forces: CsvSeries::new(
+                dir.join("wall_forces.csv"),
+                &wall_force_columns(world, &options.wall_names),
+            ),
             flow: CsvSeries::new(dir.join("flow.csv"), &flow_columns(world)),
             options: options.clone(),
             last_time: world.time(),
@@ -128,8 +141,7 @@ impl RunOutput {
             frame: 0,
             polyhedra_series,
             names,
-            wall_centre: 0.5 * (bounds.min + bounds.max),
-            wall_half_size: bounds.extent().max_element().max(f64::MIN_POSITIVE),
+            wall_bounds: bounds,
         })
     }
 
@@ -270,9 +282,16 @@ impl RunOutput {
         let mut mesh = PolygonMesh::default();
         for (n, plane) in world.planes().iter().enumerate() {
             let first = mesh.vertices.len() as u32;
-            mesh.vertices
-                .extend(plane.patch(self.wall_centre, self.wall_half_size));
-            mesh.polygons.push((first..first + 4).collect());
+            let mut section = plane.section(&self.wall_bounds);
+            if section.is_empty() {
+                // A plane outside the scene touches nothing; drawn nearby all the same.
+                let b = &self.wall_bounds;
+                let half = 0.5 * b.extent().max_element().max(f64::MIN_POSITIVE);
+                section = plane.patch(0.5 * (b.min + b.max), half).to_vec();
+            }
+            let corners = section.len() as u32;
+            mesh.vertices.extend(section);
+            mesh.polygons.push((first..first + corners).collect());
             mesh.cell_ids.push(n as u32);
         }
         // Mesh walls follow the planes in the `wall` numbering.
@@ -355,12 +374,13 @@ fn wall_impulses(world: &World) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn wall_force_columns(world: &World) -> Vec<String> {
+fn wall_force_columns(world: &World, names: &[String]) -> Vec<String> {
     let walls = world.planes().len() + world.mesh_walls().len();
     let mut columns = vec!["time".to_string()];
     for w in 0..walls {
+        let name = names.get(w).cloned().unwrap_or_else(|| format!("wall{w}"));
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-            columns.push(format!("wall{w}_{c}"));
+            columns.push(format!("{name}_{c}"));
         }
     }
     columns

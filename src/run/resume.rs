@@ -81,7 +81,9 @@ pub fn resume(
     let mut output = saved.progress.output;
     output.relocate(out_dir);
     output.set_shape_names(ShapeNames::new(prepared.shape_names.clone()));
+    let watch = super::EnergyWatch::new(&prepared.world);
     let mut session = Session {
+        watch,
         prepared: &mut prepared,
         output,
         control: Control {

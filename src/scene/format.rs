@@ -361,6 +361,8 @@ pub struct PlaneSpec {
     pub point: Vec3,
     pub normal: Vec3,
     pub material: String,
+    /// Heads the wall's columns in `wall_forces.csv`; default `wallN`.
+    pub name: Option<String>,
 }
 
 /// A triangle-mesh wall: from a mesh file or a generator, then scaled, rotated and moved.
@@ -368,8 +370,13 @@ pub struct PlaneSpec {
 #[serde(deny_unknown_fields)]
 pub struct MeshWallSpec {
     pub material: String,
+    /// Heads the wall's columns in `wall_forces.csv`; default `wallN`.
+    pub name: Option<String>,
     /// STL or OBJ file, relative to the scene file's folder.
     pub file: Option<String>,
+    /// Reverse the winding of the file's triangles (a mesh that faces away from the bodies).
+    #[serde(default)]
+    pub flip: bool,
     pub generator: Option<WallGenerator>,
     #[serde(default = "unit_scale")]
     pub scale: f64,

@@ -13,6 +13,7 @@ pub mod overrides;
 pub mod shapes;
 mod time_step;
 mod validate;
+mod wall_sides;
 pub mod walls;
 
 pub use error::{KeyPath, SceneError};
@@ -208,6 +209,14 @@ fn plane_obstacles(planes: &[Plane]) -> Vec<insert::PlaneObstacle> {
         .collect()
 }
 
+/// Whether `name` can head CSV columns as it is: letters, digits, `_` and `-`.
+fn usable_as_column(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 impl Scene {
     /// Reads and parses a scene file.
     pub fn load(file: &Path) -> Result<Self, SceneError> {
@@ -328,6 +337,8 @@ impl Scene {
         let shapes = shapes::build(self)?;
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
         self.check_initial_overlaps(&bodies, &planes)?;
+        // Sides first: a body behind a wall also overlaps it, and the side is the fault.
+        self.check_mesh_wall_sides(&bodies, &mesh_walls, self.falling_direction())?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
         let mut schedule = Vec::new();
         for (index, i) in spec.insertions.iter().enumerate() {
@@ -366,6 +377,7 @@ impl Scene {
             law: normal,
             gravity: strongest,
         })?;
+        let extent = self.extent(&bodies, &planes, &mesh_walls);
         let world = World::new(WorldConfig {
             time_step,
             gravity,
@@ -424,6 +436,8 @@ impl Scene {
                     .packing_region
                     .as_ref()
                     .map(|r| crate::math::Aabb::new(DVec3::from(r.min), DVec3::from(r.max))),
+                extent,
+                wall_names: self.wall_names()?,
             },
             notes: shapes
                 .iter()
@@ -434,6 +448,51 @@ impl Scene {
                 .map(|(name, b)| (name.clone(), b.shape.clone()))
                 .collect(),
         })
+    }
+
+    /// Where the scene happens: its bodies at the start, insertion regions, plane walls' points,
+    /// mesh walls and the domain (for drawing plane walls as far as that). `None` for a scene of
+    /// nothing.
+    fn extent(
+        &self,
+        bodies: &[(BodyInit, KeyPath)],
+        planes: &[Plane],
+        mesh_walls: &[crate::wall::MeshWall],
+    ) -> Option<crate::math::Aabb> {
+        use crate::math::Aabb;
+        let spec = &self.spec;
+        let boxes = bodies
+            .iter()
+            .map(|(b, _)| Aabb::around_sphere(b.position, b.shape.bounding_radius()))
+            .chain(
+                spec.insertions
+                    .iter()
+                    .map(|i| Aabb::new(DVec3::from(i.region_min), DVec3::from(i.region_max))),
+            )
+            .chain(planes.iter().map(|p| Aabb::new(p.point, p.point)))
+            .chain(mesh_walls.iter().map(|w| w.bounds()))
+            .chain(
+                spec.domain
+                    .iter()
+                    .map(|d| Aabb::new(DVec3::from(d.min), DVec3::from(d.max))),
+            );
+        boxes.reduce(|a, b| a.union(&b))
+    }
+
+    /// The direction bodies fall at the start: gravity, or under a gravity table its first
+    /// non-zero row (zero if there is none).
+    fn falling_direction(&self) -> DVec3 {
+        let sim = &self.spec.simulation;
+        let first = DVec3::from(sim.gravity());
+        if first != DVec3::ZERO {
+            return first;
+        }
+        sim.gravity_table
+            .iter()
+            .flatten()
+            .map(|r| DVec3::new(r[1], r[2], r[3]))
+            .find(|g| *g != DVec3::ZERO)
+            .unwrap_or(DVec3::ZERO)
     }
 
     /// `[simulation] gravity_table`, checked.
@@ -458,16 +517,54 @@ impl Scene {
             .map_err(|e| self.error(key, format!("{e} (rows are [time, gx, gy, gz])")))
     }
 
+    /// The names of the walls in `wall_forces.csv`: planes first, then mesh walls, each its
+    /// `name` or `wallN`; checked to be usable as column heads and distinct.
+    fn wall_names(&self) -> Result<Vec<String>, SceneError> {
+        let spec = &self.spec;
+        let given =
+            spec.planes
+                .iter()
+                .enumerate()
+                .map(|(n, p)| (KeyPath::entry("plane", n).key("name"), p.name.as_ref()))
+                .chain(
+                    spec.mesh_walls.iter().enumerate().map(|(n, w)| {
+                        (KeyPath::entry("mesh_wall", n).key("name"), w.name.as_ref())
+                    }),
+                );
+        let mut names: Vec<String> = Vec::new();
+        for (w, (key, name)) in given.enumerate() {
+            let name = match name {
+                None => format!("wall{w}"),
+                Some(name) => {
+                    if !usable_as_column(name) {
+                        return Err(self.error(
+                            key,
+                            format!(
+                                "{name:?}: a wall's name heads its columns in wall_forces.csv; \
+                                 use letters, digits, `_` and `-`"
+                            ),
+                        ));
+                    }
+                    name.clone()
+                }
+            };
+            if names.contains(&name) {
+                return Err(self.error(
+                    key,
+                    format!("two walls are called {name:?}: give each its own name"),
+                ));
+            }
+            names.push(name);
+        }
+        Ok(names)
+    }
+
     /// The `[[output.flow_meter]]`s.
     fn flow_meters(&self) -> Result<Vec<FlowMeter>, SceneError> {
         let mut meters: Vec<FlowMeter> = Vec::new();
         for (n, m) in self.spec.output.flow_meters.iter().enumerate() {
             let key = |k: &str| KeyPath::table("output").key(&format!("flow_meter[{n}].{k}"));
-            let good_name = !m.name.is_empty()
-                && m.name
-                    .chars()
-                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
-            if !good_name {
+            if !usable_as_column(&m.name) {
                 return Err(self.error(
                     key("name"),
                     format!(

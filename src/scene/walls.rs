@@ -14,30 +14,40 @@ pub fn build(scene: &Scene) -> Result<Vec<MeshWall>, SceneError> {
     for (n, spec) in scene.spec.mesh_walls.iter().enumerate() {
         let key = |k: &str| KeyPath::entry("mesh_wall", n).key(k);
         let material = scene.material_index(&spec.material, key("material"))?;
-        let mesh = match (&spec.file, &spec.generator) {
-            (Some(file), None) => {
-                let path = super::shapes::scene_folder(scene).join(file);
-                let imported = crate::io::mesh::read_mesh(&path, 1.0)
-                    .map_err(|e| scene.error(key("file"), e.to_string()))?;
-                TriMesh {
-                    vertices: imported.vertices,
-                    triangles: imported
-                        .triangles
-                        .iter()
-                        .map(|t| t.map(|i| i as u32))
-                        .collect(),
+        let mesh =
+            match (&spec.file, &spec.generator) {
+                (Some(file), None) => {
+                    let path = super::shapes::scene_folder(scene).join(file);
+                    let imported = crate::io::mesh::read_mesh(&path, 1.0)
+                        .map_err(|e| scene.error(key("file"), e.to_string()))?;
+                    TriMesh {
+                        vertices: imported.vertices,
+                        triangles: imported
+                            .triangles
+                            .iter()
+                            .map(|&[a, b, c]| {
+                                // Two corners swapped turn the triangle over.
+                                let t = if spec.flip { [a, c, b] } else { [a, b, c] };
+                                t.map(|i| i as u32)
+                            })
+                            .collect(),
+                    }
                 }
-            }
-            (None, Some(generator)) => {
-                generate(generator).map_err(|e| scene.error(key("generator"), e.0))?
-            }
-            _ => {
-                return Err(scene.error(
-                    key("file"),
-                    "give exactly one of `file` (an STL or OBJ mesh) and `generator`",
-                ))
-            }
-        };
+                (None, Some(_)) if spec.flip => return Err(scene.error(
+                    key("flip"),
+                    "`flip` turns the triangles of a mesh file; a generated wall faces the way \
+                     its `facing` says",
+                )),
+                (None, Some(generator)) => {
+                    generate(generator).map_err(|e| scene.error(key("generator"), e.0))?
+                }
+                _ => {
+                    return Err(scene.error(
+                        key("file"),
+                        "give exactly one of `file` (an STL or OBJ mesh) and `generator`",
+                    ))
+                }
+            };
         let placed = mesh.transformed(
             spec.scale,
             DQuat::from_scaled_axis(DVec3::from(spec.rotation)),

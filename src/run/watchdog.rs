@@ -1,0 +1,69 @@
+//! The energy watchdog: a run whose energy ledger stops closing has blown up, even while every
+//! number is still finite. A time step far above the stable one multiplies the energy by
+//! thousands within a few hundred steps and throws the bodies out of their box, yet stays finite
+//! for a long while (issue #12); the ledger shows it at once.
+
+use crate::energy::EnergyReport;
+use crate::World;
+
+/// The ledger total may drift by at most this fraction of the energy in play before the run is
+/// stopped. Sound runs drift by well under a percent (docs/validation.md); this only catches
+/// runs that have gone wrong.
+pub const ALLOWED_DRIFT: f64 = 0.5;
+
+/// The ledger at the start, and the most energy that has been in play since.
+pub struct EnergyWatch {
+    start: EnergyReport,
+    in_play: f64,
+}
+
+impl EnergyWatch {
+    pub fn new(world: &World) -> Self {
+        let start = world.energy();
+        let mut watch = Self {
+            start,
+            in_play: 0.0,
+        };
+        watch.in_play = watch.energy_in_play(&start);
+        watch
+    }
+
+    /// Every energy the run has moved: kinetic, elastic, what was dissipated, the potential energy
+    /// released or taken up, and what insertions, removals, walls and gravity changes brought or
+    /// took. Drift is measured against the largest this has been.
+    fn energy_in_play(&self, e: &EnergyReport) -> f64 {
+        e.kinetic_translational
+            + e.kinetic_rotational
+            + e.elastic.abs()
+            + e.dissipated.abs()
+            + (e.potential - self.start.potential).abs()
+            + e.inserted.abs()
+            + e.removed.abs()
+            + e.wall_work.abs()
+            + e.gravity_work.abs()
+    }
+
+    /// `None` while the ledger closes; else why the run must stop.
+    pub fn check(&mut self, world: &World) -> Option<String> {
+        let e = world.energy();
+        self.in_play = self.in_play.max(self.energy_in_play(&e));
+        let drift = e.total() - self.start.total();
+        // Energy created is the failure; energy lost beyond the ledger would show as negative
+        // drift, and only creation throws bodies about.
+        if drift > ALLOWED_DRIFT * self.in_play && self.in_play > 0.0 {
+            return Some(format!(
+                "the run blew up at t = {:.6e} s (step {}): the energy ledger's total grew by \
+                 {drift:.3e} J, more than half of all the energy that has been in play \
+                 ({:.3e} J); a sound run stays within a percent. Kinetic energy is now {:.3e} J. \
+                 Likely causes: a time step above the stable one (`force_time_step`; `polydem \
+                 check` prints the estimate), or material values out of any physical range. The \
+                 frames written before are valid.",
+                world.time(),
+                world.steps_done(),
+                self.in_play,
+                e.kinetic_translational + e.kinetic_rotational
+            ));
+        }
+        None
+    }
+}
