@@ -8,7 +8,7 @@ use polydem::io::vtk::{write_force_network, BodyFields, ForceNetwork};
 use polydem::io::{write_particles, write_polygons, ParticleFrame, PolygonMesh, PvdSeries};
 use polydem::math::{DQuat, DVec3};
 use polydem::picture::camera::View;
-use polydem::picture::render::{render_run, render_snapshot, Picture, RenderOptions};
+use polydem::picture::render::{render_run, render_snapshot, scene_box, Picture, RenderOptions};
 use polydem::picture::run_files::{FrameChoice, RunFiles};
 
 const SPHERE: DVec3 = DVec3::new(-1.0, 0.0, 0.0);
@@ -433,4 +433,44 @@ fn materials_are_categories_with_a_colour_each() {
     assert!(b > r + 40 && b > g, "sphere {r} {g} {b}");
     let [r, g, b] = pixel_at(&p, CUBE);
     assert!(r > g && g > b + 30, "cube {r} {g} {b}");
+}
+
+#[test]
+fn a_series_keeps_one_camera_while_bodies_come_and_go() {
+    let with_sphere = tempfile::tempdir().unwrap();
+    write_scene(with_sphere.path(), DQuat::IDENTITY, true);
+    let without = tempfile::tempdir().unwrap();
+    write_scene(without.path(), DQuat::IDENTITY, false);
+    // Without the floor, which would frame both alike.
+    for dir in [with_sphere.path(), without.path()] {
+        std::fs::remove_file(dir.join("walls.pvd")).unwrap();
+    }
+    let options = RenderOptions {
+        view: View::Front,
+        colour: "id".into(),
+        range: Some((0.0, 1.0)),
+        width: 400,
+        height: 300,
+        ..RenderOptions::default()
+    };
+    let a = render(with_sphere.path(), &options);
+    let b = render(without.path(), &options);
+    assert_ne!(
+        a.camera, b.camera,
+        "each frame alone is framed on its own contents"
+    );
+
+    let snap = |dir: &Path| RunFiles::open(dir).unwrap().load(0, false).unwrap();
+    let (a_low, a_high) = scene_box(&snap(with_sphere.path())).unwrap().unwrap();
+    let (b_low, b_high) = scene_box(&snap(without.path())).unwrap().unwrap();
+    assert!(a_low.x < b_low.x, "the sphere reaches further left");
+    let shared = RenderOptions {
+        fit_box: Some((a_low.min(b_low), a_high.max(b_high))),
+        ..options
+    };
+    let a = render(with_sphere.path(), &shared);
+    let b = render(without.path(), &shared);
+    assert_eq!(a.camera, b.camera);
+    // The cube stays where it was.
+    assert_eq!(pixel_at(&a, CUBE), pixel_at(&b, CUBE));
 }

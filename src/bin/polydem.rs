@@ -258,6 +258,7 @@ fn main() -> ExitCode {
                 height: size.1,
                 force_network,
                 fps,
+                fit_box: None,
             };
             report_written(polydem::picture::render::render_run(
                 &dir,

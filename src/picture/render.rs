@@ -48,6 +48,9 @@ pub struct RenderOptions {
     pub force_network: bool,
     /// Frames per second of an animated GIF (`--out *.gif`).
     pub fps: f64,
+    /// Frame the camera on this box (low, high corners) instead of the frame's contents, so that
+    /// every picture of a series has the same camera.
+    pub fit_box: Option<(DVec3, DVec3)>,
 }
 
 impl Default for RenderOptions {
@@ -62,6 +65,7 @@ impl Default for RenderOptions {
             height: 900,
             force_network: false,
             fps: 10.0,
+            fit_box: None,
         }
     }
 }
@@ -232,6 +236,60 @@ fn wall_polygons(file: &Path, walls: &PolyData) -> Result<Vec<(usize, Vec<DVec3>
         .collect())
 }
 
+/// What the camera frames: every particle's bounding sphere, the polyhedra's corners and the
+/// walls as drawn (plane squares already cut to the particles' side of the others).
+fn fit_spheres<'a>(
+    snap: &'a Snapshot,
+    radii: &'a [f64],
+    walls: &'a [(usize, Vec<DVec3>)],
+) -> impl Iterator<Item = (DVec3, f64)> + 'a {
+    let particles = snap
+        .particles
+        .points
+        .iter()
+        .copied()
+        .zip(radii.iter().copied());
+    let polyhedra = snap
+        .polyhedra
+        .iter()
+        .flat_map(|(_, data)| data.points.iter().map(|&p| (p, 0.0)));
+    let walls = walls.iter().flat_map(|(_, w)| w.iter().map(|&p| (p, 0.0)));
+    particles.chain(polyhedra).chain(walls)
+}
+
+fn box_corners(low: DVec3, high: DVec3) -> impl Iterator<Item = (DVec3, f64)> {
+    (0..8).map(move |k| {
+        let pick = |bit: usize, a: f64, b: f64| if k & bit == 0 { a } else { b };
+        let corner = DVec3::new(
+            pick(1, low.x, high.x),
+            pick(2, low.y, high.y),
+            pick(4, low.z, high.z),
+        );
+        (corner, 0.0)
+    })
+}
+
+/// The box around all that the camera would frame in `snap`; None for an empty scene.
+pub fn scene_box(snap: &Snapshot) -> Result<Option<(DVec3, DVec3)>, PictureError> {
+    let radii = match snap.particles.point_array("radius") {
+        Some(r) => r.values.clone(),
+        None => vec![0.0; snap.particles.points.len()],
+    };
+    let walls = match &snap.walls {
+        Some((file, data)) => wall_polygons(file, data)?,
+        None => Vec::new(),
+    };
+    let mut low = DVec3::INFINITY;
+    let mut high = DVec3::NEG_INFINITY;
+    for (p, r) in fit_spheres(snap, &radii, &walls) {
+        if p.is_finite() && r.is_finite() {
+            low = low.min(p - r);
+            high = high.max(p + r);
+        }
+    }
+    Ok(low.cmple(high).all().then_some((low, high)))
+}
+
 /// Renders one frame. `name` goes into the title.
 pub fn render_snapshot(
     name: &str,
@@ -312,18 +370,10 @@ pub fn render_snapshot(
         Some((file, data)) => wall_polygons(file, data)?,
         None => Vec::new(),
     };
-    let mut bounds: Vec<(DVec3, f64)> = particles
-        .points
-        .iter()
-        .zip(radii)
-        .map(|(&p, &r)| (p, r))
-        .collect();
-    if let Some((data, _)) = &polyhedra {
-        bounds.extend(data.points.iter().map(|&p| (p, 0.0)));
-    }
-    // The walls as drawn: plane squares already cut to the particles' side of the others.
-    bounds.extend(walls.iter().flat_map(|(_, w)| w.iter().map(|&p| (p, 0.0))));
-    let camera = Camera::fit(options.view, bounds.into_iter(), viewport);
+    let camera = match options.fit_box {
+        Some((low, high)) => Camera::fit(options.view, box_corners(low, high), viewport),
+        None => Camera::fit(options.view, fit_spheres(snap, radii, &walls), viewport),
+    };
     let fine = camera.scaled(SAMPLES as f64);
     let shading = Shading::default();
     // Walls are large and often face away from the light: more ambient light and no highlight
@@ -477,7 +527,8 @@ fn output_path(dir: &Path, out: Option<&Path>, index: usize, series: bool) -> Pa
 
 /// Renders the chosen frames of the run in `dir` to PNG files, or into one animated GIF when
 /// `out` names a `.gif` file; returns the files written. A series shares one colour range (that
-/// of all its frames) so that colours compare.
+/// of all its frames) so that colours compare, and one camera, so that the picture stays still
+/// while bodies come and go.
 pub fn render_run(
     dir: &Path,
     frames: FrameChoice,
@@ -495,17 +546,23 @@ pub fn render_run(
     let indices = run.select(frames)?;
     let series = frames == FrameChoice::All;
     let mut options = options.clone();
-    if series && options.range.is_none() {
+    // A series shares one colour range and one camera: a first pass over its frames finds them.
+    if series {
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut fit: Option<(DVec3, DVec3)> = None;
         for &i in &indices {
-            let (l, h) = value_range(&frame_values(
-                &run.load(i, options.force_network)?,
-                &options,
-            )?);
+            let snap = run.load(i, options.force_network)?;
+            let (l, h) = value_range(&frame_values(&snap, &options)?);
             low = low.min(l);
             high = high.max(h);
+            if let Some((a, b)) = scene_box(&snap)? {
+                fit = Some(fit.map_or((a, b), |(c, d)| (a.min(c), b.max(d))));
+            }
         }
-        options.range = (low <= high).then_some((low, high));
+        if options.range.is_none() {
+            options.range = (low <= high).then_some((low, high));
+        }
+        options.fit_box = options.fit_box.or(fit);
     }
     let name = run.name();
     let gif = out.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")));
