@@ -792,3 +792,77 @@ radius = 0.002
     let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
     assert!(pvd.matches("<DataSet").count() < 5, "{pvd}");
 }
+
+/// Values no physical DEM scene has (a mistyped exponent) are refused before they reach the time
+/// step or the output writer.
+#[test]
+fn physically_impossible_values_are_refused() {
+    refused(
+        Some(&edit("youngs_modulus = 5.0e9", "youngs_modulus = 1e-320")),
+        &[
+            "[[material]] #1 youngs_modulus",
+            "outside any physical range",
+        ],
+    );
+    refused(
+        Some(&edit("density = 2500.0", "density = 1e-300")),
+        &["[[material]] #1 density", "outside any physical range"],
+    );
+    refused(
+        Some(&edit("radius = 0.005", "radius = 1e-30")),
+        &["[[particle]] #1 radius", "outside any physical range"],
+    );
+}
+
+/// Counts of generated shapes and walls that would exhaust memory are refused with the key.
+#[test]
+fn absurd_generator_counts_are_refused() {
+    let prism = plus(
+        "\n[shape.prism]\ntype = \"prism\"\nsides = 1000000000\ncircumradius = 0.01\nheight = 0.01\n",
+    );
+    refused(Some(&prism), &["[shape.prism] sides", "10000"]);
+    let drum = plus(
+        "\n[[mesh_wall]]\nmaterial = \"glass\"\n\
+         generator = { type = \"cylinder\", radius = 0.5, height = 0.1, segments = 1000000000 }\n",
+    );
+    refused(
+        Some(&drum),
+        &["[[mesh_wall]] #1 generator.segments", "100000"],
+    );
+}
+
+/// `--threads 100000` is refused instead of trying to start them all.
+#[test]
+fn absurd_thread_counts_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, BASE).unwrap();
+    let run = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--threads".as_ref(),
+        "100000".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_refused(&run, &file, &["[simulation] threads", "100000 threads"]);
+    assert!(!out.exists());
+}
+
+/// A scene file with a byte that is not UTF-8 is located to its line and column.
+#[test]
+fn a_byte_that_is_not_utf8_is_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join(SCENE);
+    let mut bytes = BASE.as_bytes().to_vec();
+    let at = BASE.find("glass").unwrap() + 2;
+    bytes[at] = 0xe4;
+    std::fs::write(&file, &bytes).unwrap();
+    let line = BASE[..at].matches('\n').count() + 1;
+    let output = polydem(&["check".as_ref(), file.as_os_str()]);
+    assert_refused(
+        &output,
+        &file,
+        &[&format!("{SCENE}:{line}:11:"), "byte 0xe4", "UTF-8"],
+    );
+}

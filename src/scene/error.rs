@@ -96,6 +96,39 @@ impl SceneError {
         }
     }
 
+    /// A file that is not UTF-8 text, located at its first bad byte.
+    pub fn not_utf8(file: &Path, error: &std::string::FromUtf8Error) -> Self {
+        let bytes = error.as_bytes();
+        let offset = error.utf8_error().valid_up_to();
+        let before = &bytes[..offset];
+        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1);
+        let column = String::from_utf8_lossy(&bytes[line_start..offset])
+            .chars()
+            .count()
+            + 1;
+        let line_end = bytes[offset..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(bytes.len(), |p| offset + p);
+        SceneError::Syntax {
+            file: file.to_path_buf(),
+            line,
+            column,
+            text: String::from_utf8_lossy(&bytes[line_start..line_end])
+                .trim_end()
+                .to_string(),
+            message: format!(
+                "byte 0x{:02x} is not UTF-8 text: save the file as UTF-8 (a name with an accent \
+                 typed in another encoding, say)",
+                bytes[offset]
+            ),
+        }
+    }
+
     /// A value that parsed but is not allowed; the line is looked up from the key's position.
     pub fn invalid(file: &Path, source: &str, key: KeyPath, message: impl Into<String>) -> Self {
         SceneError::Invalid {

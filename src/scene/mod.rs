@@ -226,10 +226,11 @@ impl Scene {
     /// Reads a scene file with some of its keys set otherwise (see [`overrides`]); the scene's
     /// `source` is then the edited text, which is what checkpoints store.
     pub fn load_with(file: &Path, set: &[overrides::Override]) -> Result<Self, SceneError> {
-        let source = std::fs::read_to_string(file).map_err(|source| SceneError::Read {
+        let bytes = std::fs::read(file).map_err(|source| SceneError::Read {
             file: file.to_path_buf(),
             source,
         })?;
+        let source = String::from_utf8(bytes).map_err(|e| SceneError::not_utf8(file, &e))?;
         let source = overrides::apply(&source, set).map_err(|message| SceneError::Override {
             file: file.to_path_buf(),
             message,
@@ -378,6 +379,7 @@ impl Scene {
             gravity: strongest,
         })?;
         let extent = self.extent(&bodies, &planes, &mesh_walls);
+        self.check_threads()?;
         let world = World::new(WorldConfig {
             time_step,
             gravity,
@@ -477,6 +479,24 @@ impl Scene {
                     .map(|d| Aabb::new(DVec3::from(d.min), DVec3::from(d.max))),
             );
         boxes.reduce(|a, b| a.union(&b))
+    }
+
+    /// Refuses more worker threads than any use of this machine could want (`--threads 100000`
+    /// tried to start them all): 16 per core, and at least 64.
+    fn check_threads(&self) -> Result<(), SceneError> {
+        let threads = self.spec.simulation.threads;
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let most = (16 * cores).max(64);
+        if threads > most {
+            return Err(self.error(
+                KeyPath::table("simulation").key("threads"),
+                format!(
+                    "{threads} threads on a machine with {cores} cores: at most {most} are \
+                     allowed, and more than one per core gains nothing; 0 takes one per core"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The direction bodies fall at the start: gravity, or under a gravity table its first

@@ -24,6 +24,7 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
         }
     }
     c.vector(sim.clone().key("gravity"), s.simulation.gravity())?;
+    check_counts(&c)?;
     if let Some(skin) = s.simulation.skin {
         c.non_negative(sim.clone().key("skin"), skin, "m")?;
     }
@@ -57,8 +58,8 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
                 format!("material '{}' is defined twice", m.name),
             ));
         }
-        c.positive(key("density"), m.density, "kg/m³")?;
-        c.positive(key("youngs_modulus"), m.youngs_modulus, "Pa")?;
+        c.plausible(key("density"), m.density, DENSITY, "kg/m³")?;
+        c.plausible(key("youngs_modulus"), m.youngs_modulus, STIFFNESS, "Pa")?;
         c.open_range(key("poisson_ratio"), m.poisson_ratio, -1.0, 0.5)?;
         c.restitution(key("restitution"), m.restitution)?;
         c.non_negative(key("friction"), m.friction, "")?;
@@ -117,7 +118,7 @@ pub fn check(scene: &Scene) -> Result<(), SceneError> {
     for (n, p) in s.particles.iter().enumerate() {
         let key = |k: &str| KeyPath::entry("particle", n).key(k);
         if let Some(radius) = p.radius {
-            c.positive(key("radius"), radius, "m")?;
+            c.plausible(key("radius"), radius, SIZE, "m")?;
         }
         c.vector(key("rotation"), p.rotation)?;
         c.vector(key("position"), p.position)?;
@@ -197,7 +198,7 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
             }
         }
         (Some(r), None) if i.shape.is_none() => {
-            c.positive(key("radius"), r, "m")?;
+            c.plausible(key("radius"), r, SIZE, "m")?;
             (r, r)
         }
         (None, Some(d)) if i.shape.is_none() => check_distribution(c, n, d)?,
@@ -258,6 +259,105 @@ fn check_distribution(
     }
     Ok((min, max))
 }
+
+/// Most facets or vertices a generated particle shape may have: beyond, every contact of the
+/// body costs milliseconds, and a mistyped count would allocate gigabytes before any step.
+const SHAPE_COUNT_MAX: i64 = 10_000;
+/// Most segments (and rings, divisions) along one direction of a generated wall.
+const WALL_COUNT_MAX: i64 = 100_000;
+
+/// Refuses counts of generated shapes and walls that would take more memory or time than any
+/// scene needs (`sides = 1000000000` used to abort with an allocation failure). Read from the
+/// file's own tree, so every count key of every generator is covered.
+fn check_counts(c: &Checker) -> Result<(), SceneError> {
+    const COUNTS: [&str; 9] = [
+        "sides",
+        "vertices",
+        "segments",
+        "spikes",
+        "blades",
+        "rings",
+        "segments_per_turn",
+        "radial_segments",
+        "divisions",
+    ];
+    let Ok(tree) = c.scene.source.parse::<toml::Table>() else {
+        return Ok(()); // the typed reading has reported it already
+    };
+    let too_many = |table: &toml::Table, limit: i64| -> Option<(String, i64)> {
+        COUNTS.iter().find_map(|&k| {
+            let values: Vec<i64> = match table.get(k)? {
+                toml::Value::Integer(n) => vec![*n],
+                toml::Value::Array(a) => a.iter().filter_map(toml::Value::as_integer).collect(),
+                _ => return None,
+            };
+            values
+                .into_iter()
+                .find(|&n| n > limit)
+                .map(|n| (k.to_string(), n))
+        })
+    };
+    let refuse = |key: KeyPath, (k, n): (String, i64), limit: i64| {
+        c.scene.error(
+            key,
+            format!(
+                "{k} = {n} is more than the {limit} a generated {} may have: each would cost \
+                 memory and time in every contact; use fewer (or a mesh file)",
+                if limit == SHAPE_COUNT_MAX {
+                    "shape"
+                } else {
+                    "wall"
+                }
+            ),
+        )
+    };
+    if let Some(shapes) = tree.get("shape").and_then(toml::Value::as_table) {
+        for (name, shape) in shapes {
+            if let Some(found) = shape.as_table().and_then(|t| too_many(t, SHAPE_COUNT_MAX)) {
+                let key = KeyPath::table(&format!("shape.{name}")).key(&found.0);
+                return Err(refuse(key, found, SHAPE_COUNT_MAX));
+            }
+        }
+    }
+    if let Some(walls) = tree.get("mesh_wall").and_then(toml::Value::as_array) {
+        for (n, wall) in walls.iter().enumerate() {
+            let generator = wall.get("generator").and_then(toml::Value::as_table);
+            if let Some(found) = generator.and_then(|g| too_many(g, WALL_COUNT_MAX)) {
+                let key = KeyPath::entry("mesh_wall", n).key(&format!("generator.{}", found.0));
+                return Err(refuse(key, found, WALL_COUNT_MAX));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A range no physical value of a DEM scene leaves.
+#[derive(Clone, Copy)]
+struct Plausible {
+    what: &'static str,
+    min: f64,
+    max: f64,
+}
+
+/// From aerogel's few kg/m³ (with room) to beyond osmium's 22,600.
+const DENSITY: Plausible = Plausible {
+    what: "a density",
+    min: 1e-2,
+    max: 1e6,
+};
+/// From the softest gels (about 1 kPa; DEM's softened materials are 1e5 and up) to beyond
+/// diamond's 1.2e12 Pa.
+const STIFFNESS: Plausible = Plausible {
+    what: "a Young's modulus",
+    min: 1.0,
+    max: 1e13,
+};
+/// From a nanometre (colloids) to a kilometre (boulders would be metres).
+const SIZE: Plausible = Plausible {
+    what: "a particle radius",
+    min: 1e-9,
+    max: 1e3,
+};
 
 /// Smallest share of a normal radius distribution that [min, max] must hold.
 const MIN_NORMAL_ACCEPTANCE: f64 = 1e-3;
@@ -351,6 +451,30 @@ impl Checker<'_> {
             Ok(())
         } else {
             Err(self.scene.error(key, format!("{v} is not a finite number")))
+        }
+    }
+
+    /// A value > 0 within `range` (inclusive), which no physical input of a DEM run leaves:
+    /// outside, the time step and forces leave the range of floating point.
+    fn plausible(
+        &self,
+        key: KeyPath,
+        v: f64,
+        range: Plausible,
+        unit: &str,
+    ) -> Result<(), SceneError> {
+        self.positive(key.clone(), v, unit)?;
+        if (range.min..=range.max).contains(&v) {
+            Ok(())
+        } else {
+            Err(self.scene.error(
+                key,
+                format!(
+                    "{v:e} {unit} is outside any physical range for {} ({:e} to {:e} {unit}); a \
+                     mistyped exponent?",
+                    range.what, range.min, range.max
+                ),
+            ))
         }
     }
 
