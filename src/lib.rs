@@ -18,6 +18,7 @@ pub mod io;
 pub mod material;
 pub mod math;
 pub mod narrow_phase;
+pub mod picture;
 pub mod rng;
 pub mod run;
 pub mod scene;

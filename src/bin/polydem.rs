@@ -1,7 +1,11 @@
-//! The `polydem` command: run or check a scene file.
+//! The `polydem` command: run or check a scene file, and make pictures of a run.
 
 use clap::{Parser, Subcommand};
 use polydem::checkpoint::SceneRecord;
+use polydem::picture::camera::View;
+use polydem::picture::cut::Cut;
+use polydem::picture::render::RenderOptions;
+use polydem::picture::run_files::FrameChoice;
 use polydem::run::{Control, ResumeOptions, RunError};
 use polydem::scene::{Prepared, Scene};
 use std::path::{Path, PathBuf};
@@ -62,6 +66,55 @@ enum Command {
         scene: PathBuf,
         #[command(flatten)]
         changes: SceneChanges,
+    },
+    /// Draw frames of a run as shaded PNG pictures (particles, walls, colour bar), no ParaView
+    /// needed.
+    Render {
+        /// Output folder of `polydem run`.
+        dir: PathBuf,
+        /// Frame number (0 is the first), last, or all (a numbered series).
+        #[arg(long, default_value = "last")]
+        frame: FrameChoice,
+        /// Where the camera looks from: iso, front (from −y), top (from +z), side (from +x), or a
+        /// direction x,y,z from the scene towards the viewer (e.g. 1,-2,1).
+        #[arg(long, default_value = "iso", allow_hyphen_values = true)]
+        view: View,
+        /// Point data of particles_*.vtp to colour by (vectors by their length), e.g. speed,
+        /// id, material, radius, angular_velocity; material and shape as categories.
+        #[arg(long, default_value = "speed")]
+        color: String,
+        /// Colour range LOW:HIGH [default: the frame's range; a series' over all its frames].
+        #[arg(long, value_parser = polydem::picture::render::parse_range, allow_hyphen_values = true)]
+        range: Option<(f64, f64)>,
+        /// Cut the walls away in a half-space, e.g. y<0 or x>0.1 (axis, < or >, metres); the
+        /// rest of the walls is drawn opaque. May be given more than once.
+        #[arg(long)]
+        cut: Vec<Cut>,
+        /// The cuts also remove the bodies whose centre lies in them (a section through a bed).
+        #[arg(long)]
+        cut_bodies: bool,
+        /// Picture size in pixels.
+        #[arg(long, default_value = "1200x900", value_parser = polydem::picture::render::parse_size)]
+        size: (usize, usize),
+        /// Draw the contacts as lines scaled by their normal force (needs a run with
+        /// force_network = true).
+        #[arg(long)]
+        force_network: bool,
+        /// A .png file, a folder for numbered files, or a .gif file for an animation of the
+        /// frames [default: DIR/render_NNNNNN.png].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Frames per second of an animated GIF.
+        #[arg(long, default_value_t = 10.0)]
+        fps: f64,
+    },
+    /// Plot a run's time series (energy and ledger closure, contacts, flow, wall forces) as PNG.
+    Plot {
+        /// Output folder of `polydem run`.
+        dir: PathBuf,
+        /// Folder for the plots [default: DIR].
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Measure speed; prints a Markdown table for docs/benchmarks.md.
     Bench {
@@ -182,6 +235,42 @@ fn main() -> ExitCode {
             },
         ),
         Command::Check { scene, changes } => check(&scene, &changes),
+        Command::Render {
+            dir,
+            frame,
+            view,
+            color,
+            range,
+            cut,
+            cut_bodies,
+            size,
+            force_network,
+            out,
+            fps,
+        } => {
+            let options = RenderOptions {
+                view,
+                colour: color,
+                range,
+                cuts: cut,
+                cut_bodies,
+                width: size.0,
+                height: size.1,
+                force_network,
+                fps,
+                fit_box: None,
+            };
+            report_written(polydem::picture::render::render_run(
+                &dir,
+                frame,
+                &options,
+                out.as_deref(),
+            ))
+        }
+        Command::Plot { dir, out } => report_written(polydem::picture::plot::plot_run(
+            &dir,
+            out.as_deref().unwrap_or(&dir),
+        )),
         Command::Bench {
             what:
                 Bench::BroadPhase {
@@ -219,6 +308,17 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Prints the files a picture command wrote.
+fn report_written(
+    result: Result<Vec<PathBuf>, polydem::picture::PictureError>,
+) -> Result<(), String> {
+    let written = result.map_err(|e| e.to_string())?;
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
 }
 
 /// Exit code of a run stopped by SIGINT or SIGTERM, as shells report a process ended by SIGINT.

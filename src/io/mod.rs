@@ -1,6 +1,7 @@
 //! Mesh input (`mesh`: STL and OBJ files read into welded triangle lists) and
 //! simulation output: particle and wall snapshots for ParaView (`.vtp` plus a
-//! `.pvd` time series) and scalar time series as CSV.
+//! `.pvd` time series) and scalar time series as CSV; `vtk_read` and `csv_read`
+//! read that output back for `polydem render` and `polydem plot`.
 //!
 //! Every file is written through [`atomic::write_atomic`], so a crash or a
 //! full disk in the middle of a long run never leaves a truncated file behind:
@@ -11,9 +12,11 @@
 pub mod atomic;
 pub mod body_values;
 pub mod csv;
+pub mod csv_read;
 pub mod mesh;
 pub mod output;
 pub mod vtk;
+pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_atomic_bytes};
 pub use csv::CsvSeries;
