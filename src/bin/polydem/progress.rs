@@ -5,8 +5,20 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polydem::run::{RunError, RunEvent};
 use polydem::scene::Prepared;
-use std::collections::BTreeSet;
+use std::collections::BTreeMap;
 use std::time::Instant;
+
+/// Insertions of one `[[insert]]` during the run.
+#[derive(Default)]
+struct Inserted {
+    times: u64,
+    bodies: u64,
+    short: u64,
+}
+
+/// An `[[insert]]` that repeats is reported line by line this many times, then summed up at the
+/// end (a flood feed inserts every few milliseconds: hundreds of lines otherwise).
+const INSERTIONS_SHOWN: u64 = 3;
 
 /// What the run did, counted as it went.
 pub struct Summary {
@@ -14,6 +26,7 @@ pub struct Summary {
     first_step: u64,
     /// Σ bodies × steps over the run (bodies come and go: the end count would misstate it).
     particle_steps: f64,
+    inserted: BTreeMap<usize, Inserted>,
 }
 
 impl Summary {
@@ -35,6 +48,19 @@ impl Summary {
                 w.bodies_removed()
             );
         }
+        for (index, s) in self
+            .inserted
+            .iter()
+            .filter(|(_, s)| s.times > INSERTIONS_SHOWN)
+        {
+            println!(
+                "inserted     [[insert]] #{}: {} bodies in {} insertions, {} of which fell short",
+                index + 1,
+                s.bodies,
+                s.times,
+                s.short
+            );
+        }
     }
 }
 
@@ -53,6 +79,7 @@ pub fn show<T>(
         start: Instant::now(),
         first_step: 0,
         particle_steps: 0.0,
+        inserted: BTreeMap::new(),
     };
     let mut last_step = 0;
     // indicatif draws nothing when stderr is not a terminal (a log file, CI): say it plainly then.
@@ -63,8 +90,6 @@ pub fn show<T>(
             bar.println(line)
         }
     };
-    // A flood feed falls short at every insertion: say why once per [[insert]].
-    let mut short_before = BTreeSet::new();
     let mut observe = |event: RunEvent| match event {
         RunEvent::Start { from, to } => {
             summary.first_step = from;
@@ -86,18 +111,27 @@ pub fn show<T>(
             ));
         }
         RunEvent::Inserted(r) => {
+            let counts = summary.inserted.entry(r.index).or_default();
+            counts.times += 1;
+            counts.bodies += r.inserted as u64;
+            counts.short += u64::from(r.shortfall.is_some());
             let line = format!(
                 "t = {:.4} s: [[insert]] #{} added {} bodies",
                 r.time,
                 r.index + 1,
                 r.inserted
             );
+            // The reason for a shortfall once per [[insert]]; after a few lines, a sum at the end.
             match &r.shortfall {
-                Some(why) if short_before.insert(r.index) => say(format!(
-                    "{line}; not all fitted: {why} (said once; later shortfalls of this \
-                     [[insert]] show only their count)"
-                )),
-                _ => say(line),
+                Some(why) if counts.short == 1 => say(format!("{line}; not all fitted: {why}")),
+                _ if counts.times <= INSERTIONS_SHOWN => say(line),
+                _ => {}
+            }
+            if counts.times == INSERTIONS_SHOWN {
+                say(format!(
+                    "             (further insertions of [[insert]] #{} are summed up at the end)",
+                    r.index + 1
+                ));
             }
         }
         RunEvent::Checkpoint(path) => say(format!("checkpoint   {}", path.display())),
