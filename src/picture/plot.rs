@@ -150,17 +150,12 @@ fn energy_plots(table: &Table, out: &Path) -> Result<Vec<PathBuf>, PictureError>
         )
     })?;
     let mut terms = Vec::new();
-    for column in [
-        "kinetic_translational",
-        "kinetic_rotational",
-        "potential_gravity",
-        "elastic",
-        "dissipated",
-        "removed",
-        "inserted",
-        "wall_work",
-        "gravity_work",
-    ] {
+    // The ledger's terms: every energy column but the time, the total and the counts.
+    let not_terms = ["time", "total", "contacts", "bodies"];
+    for column in crate::io::output::ENERGY_COLUMNS
+        .into_iter()
+        .filter(|c| !not_terms.contains(c))
+    {
         let Some(mut line) = series(table, &time, column, column) else {
             continue;
         };
