@@ -548,8 +548,11 @@ pub enum InsertMethod {
 pub struct InsertSpec {
     pub method: InsertMethod,
     pub material: String,
-    pub region_min: Vec3,
-    pub region_max: Vec3,
+    /// The box bodies are placed in (or give `cylinder`).
+    pub region_min: Option<Vec3>,
+    pub region_max: Option<Vec3>,
+    /// A cylinder to place bodies in, instead of the box.
+    pub cylinder: Option<CylinderRegion>,
     pub count: Option<usize>,
     pub volume_fraction: Option<f64>,
     pub radius: Option<f64>,
@@ -570,6 +573,71 @@ pub struct InsertSpec {
     pub every: Option<f64>,
     /// No repeats after this time [s]; default: the end of the run.
     pub until: Option<f64>,
+}
+
+/// A cylindrical insertion region: `length` along `axis`, centred on `centre`.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderRegion {
+    pub centre: Vec3,
+    pub axis: Vec3,
+    pub radius: f64,
+    pub length: f64,
+}
+
+impl InsertSpec {
+    /// The box bodies are placed in: the one given, or the cylinder's bounding box. (Checked
+    /// before use: one of the two is given, and the cylinder's axis is not zero.)
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match (self.region_min, self.region_max, self.cylinder) {
+            (Some(lo), Some(hi), _) => (lo, hi),
+            (_, _, Some(c)) => {
+                let a = unit(c.axis);
+                let (mut lo, mut hi) = (c.centre, c.centre);
+                for k in 0..3 {
+                    let half = 0.5 * c.length * a[k].abs()
+                        + c.radius * (1.0 - a[k] * a[k]).max(0.0).sqrt();
+                    lo[k] -= half;
+                    hi[k] += half;
+                }
+                (lo, hi)
+            }
+            _ => ([0.0; 3], [0.0; 3]),
+        }
+    }
+
+    /// Volume of the region [m³].
+    pub fn volume(&self) -> f64 {
+        match self.cylinder {
+            Some(c) => std::f64::consts::PI * c.radius * c.radius * c.length,
+            None => {
+                let (lo, hi) = self.bounds();
+                (0..3).map(|k| hi[k] - lo[k]).product()
+            }
+        }
+    }
+
+    /// Whether a sphere of `radius` at `centre` lies wholly inside the region (a box region is
+    /// handled by where centres are drawn).
+    pub fn holds(&self, centre: Vec3, radius: f64) -> bool {
+        let Some(c) = self.cylinder else {
+            return true;
+        };
+        let a = unit(c.axis);
+        let d: Vec<f64> = (0..3).map(|k| centre[k] - c.centre[k]).collect();
+        let along: f64 = (0..3).map(|k| d[k] * a[k]).sum();
+        let across2: f64 = (0..3).map(|k| d[k] * d[k]).sum::<f64>() - along * along;
+        along.abs() <= 0.5 * c.length - radius && across2.max(0.0).sqrt() <= c.radius - radius
+    }
+}
+
+fn unit(v: Vec3) -> Vec3 {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if n > 0.0 {
+        [v[0] / n, v[1] / n, v[2] / n]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
 }
 
 #[derive(Debug, Deserialize, Clone, Copy, PartialEq)]

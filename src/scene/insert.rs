@@ -53,12 +53,13 @@ pub fn insert(
     meshes: &[MeshWall],
     repetition: u64,
 ) -> Result<Vec<Placed>, InsertError> {
-    let min = DVec3::from(spec.region_min);
-    let max = DVec3::from(spec.region_max);
+    let (min, max) = spec.bounds();
+    let (min, max) = (DVec3::from(min), DVec3::from(max));
     let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
-    let radii = draw_radii(spec, shape, (max - min).element_product(), &mut rng);
+    let radii = draw_radii(spec, shape, spec.volume(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let mut obstacles = Obstacles::new(existing, planes, meshes, r_max);
+    obstacles.region = Some(spec);
     let what = Noun::of(spec);
     match spec.method {
         InsertMethod::Lattice => lattice(min, max, &radii, &mut obstacles, &what),
@@ -97,6 +98,9 @@ struct Obstacles<'a> {
     grid: HashMap<(i64, i64, i64), Vec<Placed>>,
     planes: &'a [PlaneObstacle],
     meshes: &'a [MeshWall],
+    /// The insertion, whose region (a cylinder) a body must lie in, beyond the box its centres
+    /// are drawn from.
+    region: Option<&'a InsertSpec>,
 }
 
 impl<'a> Obstacles<'a> {
@@ -112,6 +116,7 @@ impl<'a> Obstacles<'a> {
             grid: HashMap::new(),
             planes,
             meshes,
+            region: None,
         };
         for p in existing {
             obstacles.add(*p);
@@ -129,6 +134,12 @@ impl<'a> Obstacles<'a> {
     }
 
     fn is_free(&self, centre: DVec3, radius: f64) -> bool {
+        if !self
+            .region
+            .is_none_or(|r| r.holds(centre.to_array(), radius))
+        {
+            return false;
+        }
         let in_front = |w: &PlaneObstacle| (centre - w.point).dot(w.normal) >= radius;
         if !self.planes.iter().all(in_front) {
             return false;
@@ -348,8 +359,9 @@ mod tests {
         InsertSpec {
             method,
             material: "m".into(),
-            region_min: [0.0; 3],
-            region_max: [1.0; 3],
+            region_min: Some([0.0; 3]),
+            region_max: Some([1.0; 3]),
+            cylinder: None,
             count: Some(100),
             volume_fraction: None,
             radius: Some(0.05),

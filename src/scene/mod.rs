@@ -466,11 +466,10 @@ impl Scene {
         let boxes = bodies
             .iter()
             .map(|(b, _)| Aabb::around_sphere(b.position, b.shape.bounding_radius()))
-            .chain(
-                spec.insertions
-                    .iter()
-                    .map(|i| Aabb::new(DVec3::from(i.region_min), DVec3::from(i.region_max))),
-            )
+            .chain(spec.insertions.iter().map(|i| {
+                let (lo, hi) = i.bounds();
+                Aabb::new(DVec3::from(lo), DVec3::from(hi))
+            }))
             .chain(planes.iter().map(|p| Aabb::new(p.point, p.point)))
             .chain(mesh_walls.iter().map(|w| w.bounds()))
             .chain(

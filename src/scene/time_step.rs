@@ -165,7 +165,8 @@ impl Scene {
         }
         for i in &self.spec.insertions {
             speed = speed.max(DVec3::from(i.velocity).length());
-            let (lo, hi) = (DVec3::from(i.region_min), DVec3::from(i.region_max));
+            let (lo, hi) = i.bounds();
+            let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
             for corner in 0..8 {
                 let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
                 let p = DVec3::new(

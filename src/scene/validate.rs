@@ -159,14 +159,36 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
             return Err(c.scene.error(key("until"), "until must not be before time"));
         }
     }
-    c.vector(key("region_min"), i.region_min)?;
-    c.vector(key("region_max"), i.region_max)?;
     c.vector(key("velocity"), i.velocity)?;
-    if (0..3).any(|a| i.region_max[a] <= i.region_min[a]) {
-        return Err(c.scene.error(
-            key("region_max"),
-            "region_max must be greater than region_min on every axis",
-        ));
+    match (i.region_min, i.region_max, i.cylinder) {
+        (Some(lo), Some(hi), None) => {
+            c.vector(key("region_min"), lo)?;
+            c.vector(key("region_max"), hi)?;
+            if (0..3).any(|a| hi[a] <= lo[a]) {
+                return Err(c.scene.error(
+                    key("region_max"),
+                    "region_max must be greater than region_min on every axis",
+                ));
+            }
+        }
+        (None, None, Some(cyl)) => {
+            c.vector(key("cylinder.centre"), cyl.centre)?;
+            c.vector(key("cylinder.axis"), cyl.axis)?;
+            if cyl.axis.iter().all(|&x| x == 0.0) {
+                return Err(c
+                    .scene
+                    .error(key("cylinder.axis"), "the axis must not be zero"));
+            }
+            c.positive(key("cylinder.radius"), cyl.radius, "m")?;
+            c.positive(key("cylinder.length"), cyl.length, "m")?;
+        }
+        _ => {
+            return Err(c.scene.error(
+                key("region_min"),
+                "give the region as `region_min` and `region_max` (a box) or as `cylinder = \
+                 { centre, axis, radius, length }`, one of the two",
+            ))
+        }
     }
     match (i.count, i.volume_fraction) {
         (Some(_), Some(_)) | (None, None) => {
@@ -386,7 +408,11 @@ fn check_insertion_size(
         ),
         None => ("sphere of radius".into(), "spheres of radius".into()),
     };
-    let extent: Vec<f64> = (0..3).map(|a| i.region_max[a] - i.region_min[a]).collect();
+    let (lo, hi) = i.bounds();
+    let extent: Vec<f64> = match i.cylinder {
+        Some(cyl) => vec![2.0 * cyl.radius, cyl.length],
+        None => (0..3).map(|a| hi[a] - lo[a]).collect(),
+    };
     if extent.iter().any(|&e| e < 2.0 * r_max) {
         return Err(c.scene.error(
             key("region_max"),
@@ -396,7 +422,7 @@ fn check_insertion_size(
             ),
         ));
     }
-    let region = extent.iter().product::<f64>();
+    let region = i.volume();
     let smallest = 4.0 / 3.0 * std::f64::consts::PI * r_min.powi(3);
     let (count_key, most) = match (i.count, i.volume_fraction) {
         (Some(count), _) => {

@@ -35,7 +35,8 @@ impl Scene {
             .step_by(stride)
             .map(|(b, key)| (b.position, key.clone(), "the particle"));
         let from_regions = self.spec.insertions.iter().enumerate().flat_map(|(n, i)| {
-            let (lo, hi) = (DVec3::from(i.region_min), DVec3::from(i.region_max));
+            let (lo, hi) = i.bounds();
+            let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
             // The centre and the middles of the region's four upright quarters.
             let points = [0.5, 0.25, 0.75]
                 .into_iter()
