@@ -20,9 +20,26 @@ static NEXT_TEMP_ID: AtomicU64 = AtomicU64::new(0);
 /// flushed, fsynced and renamed over `path`.
 ///
 /// On any error — from `write`, the file system or the rename — the temporary
-/// is removed and the error returned; `path` is left untouched. The temporary
-/// is also removed if `write` panics.
+/// is removed and the error returned, naming `path` (a full disk must say which
+/// file it stopped); `path` is left untouched. The temporary is also removed if
+/// `write` panics.
 pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    write_atomic_unnamed(path, write).map_err(|e| naming(path, e))
+}
+
+/// `e` with the file it happened to in its message (unless it is there already).
+pub(crate) fn naming(path: &Path, e: io::Error) -> io::Error {
+    let shown = path.display().to_string();
+    if e.to_string().contains(&shown) {
+        return e;
+    }
+    io::Error::new(e.kind(), format!("'{shown}': {e}"))
+}
+
+fn write_atomic_unnamed(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
@@ -144,7 +161,11 @@ mod tests {
             Err(io::Error::other("simulated failure"))
         })
         .unwrap_err();
-        assert_eq!(err.to_string(), "simulated failure");
+        // The error names the file it stopped (a full disk must say which).
+        assert_eq!(
+            err.to_string(),
+            format!("'{}': simulated failure", path.display())
+        );
         assert!(!path.exists());
         assert!(entries(dir.path()).is_empty(), "{:?}", entries(dir.path()));
     }

@@ -66,10 +66,13 @@ impl CsvSeries {
             for row in &self.rows[self.on_disk..] {
                 lines.push_str(&line(row));
             }
-            let mut file = std::fs::OpenOptions::new().append(true).open(&self.path)?;
-            // One write of whole lines, then to disk before the run goes on.
-            file.write_all(lines.as_bytes())?;
-            file.sync_data()?;
+            let append = || -> io::Result<()> {
+                let mut file = std::fs::OpenOptions::new().append(true).open(&self.path)?;
+                // One write of whole lines, then to disk before the run goes on.
+                file.write_all(lines.as_bytes())?;
+                file.sync_data()
+            };
+            append().map_err(|e| super::atomic::naming(&self.path, e))?;
         }
         self.on_disk = self.rows.len();
         Ok(())
