@@ -7,6 +7,7 @@ use crate::checkpoint::{
 };
 use crate::io::body_values::ShapeNames;
 use crate::io::output::RunOutput;
+use crate::scene::format::WatchdogMode;
 use crate::scene::{InsertionReport, Prepared};
 use crate::shape::Shape;
 use crate::World;
@@ -21,7 +22,7 @@ mod watchdog;
 
 pub use resume::{resume, ResumeOptions};
 pub use trial::{bodies_to_come, Trial};
-pub use watchdog::{EnergyWatch, ALLOWED_DRIFT};
+pub use watchdog::{too_fast, EnergyWatch, ALLOWED_DRIFT};
 
 /// Why a run stopped before its end.
 #[derive(Debug)]
@@ -141,6 +142,8 @@ struct Session<'a> {
     fingerprint: u64,
     /// Stops a run whose energy ledger no longer closes.
     watch: EnergyWatch,
+    /// Whether a warning of the watchdog was given (`watchdog = "warn"`).
+    warned: bool,
 }
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
@@ -185,6 +188,7 @@ pub fn run_with(
         templates,
         fingerprint,
         watch,
+        warned: false,
     };
     session.drive(observe)?;
     Ok(session.output)
@@ -236,10 +240,25 @@ impl Session<'_> {
             while self.prepared.world.steps_done() < until && !stopped {
                 let chunk = (until - self.prepared.world.steps_done()).min(200);
                 self.prepared.world.run_steps(chunk);
-                if let Some(why) =
-                    blow_up(&self.prepared.world).or_else(|| self.watch.check(&self.prepared.world))
-                {
+                if let Some(why) = blow_up(&self.prepared.world) {
                     return Err(RunError::BlowUp(why));
+                }
+                let w = &self.prepared.world;
+                let suspect = self
+                    .watch
+                    .check(w)
+                    .or_else(|| too_fast(w, self.prepared.speed_limit));
+                if let Some(why) = suspect {
+                    if self.prepared.watchdog == WatchdogMode::Stop {
+                        return Err(RunError::BlowUp(why));
+                    }
+                    // An expert asked to go on: say it once.
+                    if !self.warned {
+                        self.warned = true;
+                        observe(RunEvent::Note(format!(
+                            "{why} (`watchdog = \"warn\"`: the run goes on; said once)"
+                        )));
+                    }
                 }
                 observe(RunEvent::Progress(&self.prepared.world));
                 stopped = self

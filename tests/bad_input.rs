@@ -866,3 +866,50 @@ fn a_byte_that_is_not_utf8_is_located() {
         &[&format!("{SCENE}:{line}:11:"), "byte 0xe4", "UTF-8"],
     );
 }
+
+/// `watchdog = "warn"`: an expert who knows why the energy grows gets the warning once and the
+/// run goes on to its end.
+#[test]
+fn the_watchdog_can_be_told_to_warn() {
+    let scene = r#"[simulation]
+duration = 0.02
+output_interval = 0.005
+time_step = 6.0e-4
+force_time_step = true
+watchdog = "warn"
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "glass"
+
+[[insert]]
+method = "random"
+seed = 1
+material = "glass"
+region_min = [-0.01, -0.01, 0.0]
+region_max = [0.01, 0.01, 0.05]
+count = 50
+radius = 0.002
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, scene).unwrap();
+    let output = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("watchdog = \"warn\"").count(), 1, "{stderr}");
+}

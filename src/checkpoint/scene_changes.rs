@@ -11,6 +11,7 @@ pub const ALLOWED_CHANGES: &[&str] = &[
     "simulation.duration",
     "simulation.output_interval",
     "simulation.threads",
+    "simulation.watchdog",
     "output.checkpoint_interval",
     "output.vtk_interval",
     "output.csv_interval",

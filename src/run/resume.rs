@@ -84,6 +84,7 @@ pub fn resume(
     let watch = super::EnergyWatch::new(&prepared.world);
     let mut session = Session {
         watch,
+        warned: false,
         prepared: &mut prepared,
         output,
         control: Control {

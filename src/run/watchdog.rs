@@ -68,3 +68,76 @@ impl EnergyWatch {
         None
     }
 }
+
+/// The first body faster than `limit` [m/s], as a message saying which, how fast and why it
+/// matters; `None` while every body is slower. O(bodies).
+pub fn too_fast(world: &World, limit: f64) -> Option<String> {
+    let b = world.bodies();
+    let limit2 = limit * limit;
+    let i = (0..b.len()).find(|&i| b.velocity[i].length_squared() > limit2)?;
+    Some(format!(
+        "the run blew up at t = {:.6e} s (step {}): body {} moves at {:.3e} m/s, more than ten \
+         times the fastest impact the scene can bring ({:.3e} m/s: its initial and insertion \
+         speeds, a fall across the whole scene, its walls' surfaces). Likely causes: a time step \
+         above the stable one, a restitution near 0, or material values out of any physical \
+         range. The frames written before are valid.",
+        world.time(),
+        world.steps_done(),
+        b.id[i],
+        b.velocity[i].length(),
+        limit / 10.0
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::BodyInit;
+    use crate::material::{Material, PairTable};
+    use crate::math::DVec3;
+    use crate::shape::{Shape, Sphere};
+    use crate::WorldConfig;
+
+    #[test]
+    fn a_body_faster_than_the_limit_is_named() {
+        let material = Material {
+            name: "m".into(),
+            density: 1000.0,
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.3,
+            restitution: 0.5,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        };
+        let laws = PairTable::new(
+            std::slice::from_ref(&material),
+            crate::contact_law::NormalLaw::Hertz,
+            1.0,
+            &[],
+        );
+        let mut world = World::new(WorldConfig {
+            time_step: 1e-5,
+            gravity: DVec3::ZERO,
+            materials: vec![material],
+            pair_laws: laws,
+            planes: Vec::new(),
+            broad_phase: Default::default(),
+            skin: None,
+            threads: 1,
+        })
+        .unwrap();
+        for (k, speed) in [1.0, 30.0].into_iter().enumerate() {
+            world.add_body(BodyInit {
+                shape: Shape::Sphere(Sphere::new(0.01)),
+                material: 0,
+                position: DVec3::Y * k as f64,
+                orientation: crate::math::DQuat::IDENTITY,
+                velocity: DVec3::X * speed,
+                angular_velocity: DVec3::ZERO,
+            });
+        }
+        assert!(too_fast(&world, 40.0).is_none());
+        let why = too_fast(&world, 20.0).unwrap();
+        assert!(why.contains("body 1 moves at 3.000e1 m/s"), "{why}");
+    }
+}

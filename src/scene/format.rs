@@ -244,6 +244,10 @@ pub struct Simulation {
     /// Metres by which broad-phase boxes are enlarged so the pair list lasts several steps;
     /// default: a fifth of the smallest particle radius.
     pub skin: Option<f64>,
+    /// What the run's watchdog does when the energy grows or a body goes faster than the scene
+    /// can make it: stop the run (default) or warn and go on (for experts who know why).
+    #[serde(default)]
+    pub watchdog: WatchdogMode,
     /// Largest initial overlap accepted, as a fraction of the smaller radius.
     #[serde(default = "default_overlap_tolerance")]
     pub initial_overlap_tolerance: f64,
@@ -262,6 +266,15 @@ impl Simulation {
 
 fn default_overlap_tolerance() -> f64 {
     0.01
+}
+
+/// See [`Simulation::watchdog`].
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WatchdogMode {
+    #[default]
+    Stop,
+    Warn,
 }
 
 #[derive(Debug, Default, Clone, Copy, PartialEq)]

@@ -53,6 +53,11 @@ pub struct Prepared {
     /// Simulated seconds between checkpoints (`[output] checkpoint_interval`); `None`: only at
     /// the end and when interrupted.
     pub checkpoint_interval: Option<f64>,
+    /// No body goes faster in a sound run [m/s]: ten times the fastest impact the scene can
+    /// bring (initial and insertion speeds, a fall across the whole scene, walls' surfaces).
+    pub speed_limit: f64,
+    /// Whether the watchdog stops the run or warns (`[simulation] watchdog`).
+    pub watchdog: format::WatchdogMode,
     /// The stable-step estimate, and whether the step was chosen automatically.
     pub estimate: timestep::Estimate,
     pub automatic_time_step: bool,
@@ -379,6 +384,7 @@ impl Scene {
             gravity: strongest,
         })?;
         let extent = self.extent(&bodies, &planes, &mesh_walls);
+        let speed_limit = (10.0 * self.impact_speed(strongest, &bodies, &mesh_walls)).max(1.0);
         self.check_threads()?;
         let world = World::new(WorldConfig {
             time_step,
@@ -428,6 +434,8 @@ impl Scene {
                 .or(spec.simulation.output_interval)
                 .unwrap_or(duration / 100.0),
             checkpoint_interval: spec.output.checkpoint_interval,
+            speed_limit,
+            watchdog: spec.simulation.watchdog,
             estimate,
             automatic_time_step: automatic,
             schedule,

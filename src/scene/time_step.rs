@@ -145,7 +145,7 @@ impl Scene {
 
     /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
     /// fall across the whole height of the scene (bodies and insertion regions, along gravity).
-    fn impact_speed(
+    pub(super) fn impact_speed(
         &self,
         gravity: DVec3,
         bodies: &[(BodyInit, KeyPath)],
