@@ -23,6 +23,24 @@ pub struct Estimate {
     pub seconds: f64,
     /// How it was found, for the user.
     pub reason: String,
+    /// The deepest overlap the expected impacts bring, relative to the body's size.
+    pub deepest: Option<DeepOverlap>,
+}
+
+/// The deepest overlap of an expected impact: δ_max over the body's (volume-equivalent) radius.
+/// A contact law is a model of small overlaps; at overlaps comparable to the bodies' size bodies
+/// pass through each other or are thrown out (20 m cubes of E = 10 MPa falling 400 m gained 7×
+/// their energy: issue #11, point 4).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeepOverlap {
+    pub ratio: f64,
+    /// The material whose stiffness sets it.
+    pub material: u32,
+    /// δ_max ∝ E^(−1/power): 5/2 for Hertz, 2 for the linear and volume laws; `None` when the
+    /// stiffness is `[contact] stiffness` (the linear law of spheres), not a modulus.
+    pub modulus_power: Option<f64>,
+    /// Which impact, for the user.
+    pub what: String,
 }
 
 /// Steps per contact the estimate allows at least: the validation tests show the energy ledger
@@ -94,6 +112,18 @@ pub struct Conditions<'a> {
 /// resolved too ([`steps_per_contact`]).
 pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Option<Estimate> {
     let mut best: Option<Estimate> = None;
+    let mut deepest: Option<DeepOverlap> = None;
+    let mut deep =
+        |ratio: f64, material: u32, modulus_power: Option<f64>, what: &dyn Fn() -> String| {
+            if ratio.is_finite() && deepest.as_ref().is_none_or(|d| ratio > d.ratio) {
+                deepest = Some(DeepOverlap {
+                    ratio,
+                    material,
+                    modulus_power,
+                    what: what(),
+                });
+            }
+        };
     let mut cache = Vec::new();
     let mut steps = |law: NormalLaw, a: &Material, b: &Material| {
         let e = 0.5 * (a.restitution + b.restitution);
@@ -104,6 +134,7 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
             best = Some(Estimate {
                 seconds,
                 reason: reason(),
+                deepest: None,
             });
         }
     };
@@ -119,10 +150,28 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
                 let e = effective_modulus(m, other);
                 let (stiffness, how) = match body.vertex_springs {
                     // Vertex law: springs E* R* at the face's corners.
-                    Some(n) => (e * r * n as f64, "vertex springs of a flat face"),
+                    Some(n) => (e * r * n as f64, "flat on its vertex springs"),
                     None => (e * area / r, "face-on"),
                 };
                 let duration = PI * (mass / stiffness).sqrt();
+                // Face-on at the impact speed (twice that between two bodies): δ = v √(m*/k).
+                let speed = if mass < body.mass {
+                    2.0 * c.impact_speed
+                } else {
+                    c.impact_speed
+                };
+                deep(
+                    speed * (mass / stiffness).sqrt() / radius,
+                    body.material,
+                    Some(2.0),
+                    &|| {
+                        format!(
+                            "a polyhedron ('{}', mass {:.3e} kg) landing {how} on a '{}' face at \
+                             {speed:.3} m/s",
+                            m.name, body.mass, other.name
+                        )
+                    },
+                );
                 let (n, e) = steps(NormalLaw::Linear { stiffness }, m, other);
                 consider(duration / n, &|| {
                     format!(
@@ -156,6 +205,21 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
                         0.5 * body.radius,
                         2.0 * c.impact_speed,
                     );
+                    let depth = impact_depth(
+                        m,
+                        m,
+                        0.5 * body.mass,
+                        0.5 * body.radius,
+                        2.0 * c.impact_speed,
+                    );
+                    deep(depth / body.radius, body.material, Some(2.5), &|| {
+                        format!(
+                            "two bodies of radius {:.3e} m ('{}') meeting at {:.3} m/s",
+                            body.radius,
+                            m.name,
+                            2.0 * c.impact_speed
+                        )
+                    });
                     let (n, e) = steps(c.law, m, m);
                     consider(pair / n, &|| {
                         format!(
@@ -170,6 +234,13 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
                     for &w in c.wall_materials {
                         let wall = &c.materials[w as usize];
                         let t = impact_duration(m, wall, body.mass, body.radius, c.impact_speed);
+                        let depth = impact_depth(m, wall, body.mass, body.radius, c.impact_speed);
+                        deep(depth / body.radius, body.material, Some(2.5), &|| {
+                            format!(
+                                "a body of radius {:.3e} m ('{}') hitting a '{}' wall at {:.3} m/s",
+                                body.radius, m.name, wall.name, c.impact_speed
+                            )
+                        });
                         let (n, e) = steps(c.law, m, wall);
                         consider(t / n, &|| {
                             format!(
@@ -187,6 +258,16 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
             }
             NormalLaw::Linear { stiffness } => {
                 let duration = PI * (0.5 * body.mass / stiffness).sqrt();
+                // Body on wall at the impact speed, δ = v √(m/k) (two bodies at twice the speed
+                // with m* = m/2 go √2 deeper).
+                let depth = 2.0f64.sqrt() * c.impact_speed * (body.mass / stiffness).sqrt();
+                deep(depth / body.radius, body.material, None, &|| {
+                    format!(
+                        "two bodies of mass {:.3e} kg meeting at {:.3} m/s",
+                        body.mass,
+                        2.0 * c.impact_speed
+                    )
+                });
                 // The most damped pair the body meets: itself or a wall.
                 let (n, e) = std::iter::once(m)
                     .chain(c.wall_materials.iter().map(|&w| &c.materials[w as usize]))
@@ -203,15 +284,20 @@ pub fn estimate(bodies: impl Iterator<Item = Candidate>, c: &Conditions) -> Opti
             }
         }
     }
-    best
+    best.map(|b| Estimate { deepest, ..b })
+}
+
+/// Deepest overlap of an undamped Hertz impact at speed `v`: δ_max = (15 m v²/(16 E* √r))^{2/5}
+/// (Johnson 1985 §11.1).
+pub fn impact_depth(a: &Material, b: &Material, m: f64, r: f64, v: f64) -> f64 {
+    let e = effective_modulus(a, b);
+    (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4)
 }
 
 /// Duration of an undamped Hertz impact at speed `v` (Johnson 1985 §11.1; the constant
 /// 2.943275 = Γ(2/5)Γ(1/2)/(5/2 Γ(9/10)) is checked in `tests/physics_hertz_impact.rs`).
 pub fn impact_duration(a: &Material, b: &Material, m: f64, r: f64, v: f64) -> f64 {
-    let e = effective_modulus(a, b);
-    let depth = (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4);
-    2.943275 * depth / v
+    2.943275 * impact_depth(a, b, m, r, v) / v
 }
 
 /// E* of two materials (Johnson 1985).

@@ -81,7 +81,10 @@ fn the_automatic_step_resolves_strong_dashpots() {
     let (_, _, ordinary_step) = impact(0.5, "", HERTZ);
     for e in [0.05, 0.03, 0.01] {
         let (v, drift, dt) = impact(e, "", HERTZ);
-        assert!(dt < ordinary_step, "e = {e}: step {dt} not below {ordinary_step}");
+        assert!(
+            dt < ordinary_step,
+            "e = {e}: step {dt} not below {ordinary_step}"
+        );
         assert!((v - e * 0.5).abs() < 0.05 * e * 0.5, "e = {e}: rebound {v}");
         assert!(drift.abs() < 1e-3, "e = {e}: ledger off by {drift}");
     }
@@ -171,7 +174,11 @@ seed = 3
     let end = w.energy();
     let bodies = w.bodies();
     assert_eq!(bodies.len(), 150);
-    let fastest = bodies.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
+    let fastest = bodies
+        .velocity
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, f64::max);
     assert!(fastest < 0.05, "a body still moves at {fastest} m/s");
     let highest = bodies.position.iter().map(|p| p.z).fold(0.0, f64::max);
     assert!(highest < 0.05, "a body at {highest} m: not settled");

@@ -256,11 +256,7 @@ pub fn evaluate(
         torque: r.torque + k.normal * w.torque + rock.torque + n.couple,
         normal_force: n.total,
         elastic_energy: n.elastic_energy + t.elastic_energy + r.elastic_energy + w.elastic_energy,
-        dissipated: damper_work
-            + t.dissipated
-            + r.dissipated
-            + w.dissipated
-            + rock.dissipated,
+        dissipated: damper_work + t.dissipated + r.dissipated + w.dissipated + rock.dissipated,
     }
 }
 

@@ -113,8 +113,11 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
                 DVec3::ZERO,
             ),
         };
-    let damping_coefficient =
-        bounded_dashpot(c * (k.effective_mass * stiffness).sqrt(), k.effective_mass, dt);
+    let damping_coefficient = bounded_dashpot(
+        c * (k.effective_mass * stiffness).sqrt(),
+        k.effective_mass,
+        dt,
+    );
     let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);
     NormalForce {
         elastic,

@@ -17,6 +17,7 @@ mod wall_sides;
 pub mod walls;
 
 pub use error::{KeyPath, SceneError};
+pub use time_step::MAX_OVERLAP;
 
 use crate::body::BodyInit;
 use crate::contact_law::NormalLaw;
@@ -425,7 +426,11 @@ impl Scene {
         let release_speed = {
             let b = world.bodies();
             let lightest = b.mass.iter().copied().fold(f64::INFINITY, f64::min);
-            let elastic: f64 = world.contacts().iter().map(|c| c.report.elastic_energy).sum();
+            let elastic: f64 = world
+                .contacts()
+                .iter()
+                .map(|c| c.report.elastic_energy)
+                .sum();
             if lightest.is_finite() && lightest > 0.0 {
                 (2.0 * elastic / lightest).sqrt()
             } else {
