@@ -117,6 +117,9 @@ class Simulation:
     def end_time(self) -> float:
         """The time the run ends at [s]."""
     @property
+    def end_step(self) -> int:
+        """The step at which the run ends."""
+    @property
     def out(self) -> str:
         """The output folder."""
     @property

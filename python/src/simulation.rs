@@ -223,6 +223,12 @@ impl Simulation {
         self.run.prepared().duration
     }
 
+    /// The step at which the run ends (`end_time` over the time step).
+    #[getter]
+    fn end_step(&self) -> u64 {
+        self.run.end_step()
+    }
+
     /// The output folder.
     #[getter]
     fn out(&self) -> String {

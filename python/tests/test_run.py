@@ -34,7 +34,7 @@ def test_run_and_step_advance_time_and_write_the_cli_outputs(bed, tmp_path):
     sim.run(0.01)
     assert sim.steps == 600
     sim.run()  # to the scene's end
-    assert sim.steps == 3000 and sim.time == pytest.approx(0.06)
+    assert sim.steps == sim.end_step == 3000 and sim.time == pytest.approx(0.06)
     out = tmp_path / "out"
     frames = sorted(out.glob("particles_*.vtp"))
     assert len(frames) == 7  # t = 0, 0.01, …, 0.06
