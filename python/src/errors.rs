@@ -52,6 +52,12 @@ pub fn scene_error(py: Python<'_>, e: &LibSceneError) -> PyErr {
 /// message says where the checkpoint is).
 pub fn run_error(e: LibRunError) -> PyErr {
     match e {
+        LibRunError::Interrupted {
+            checkpoint: Some(_),
+            ..
+        } => PyKeyboardInterrupt::new_err(format!(
+            "{e} (from Python: polydem.Simulation.resume(OUT))"
+        )),
         LibRunError::Interrupted { .. } => PyKeyboardInterrupt::new_err(e.to_string()),
         e => RunError::new_err(e.to_string()),
     }

@@ -124,3 +124,22 @@ def test_checkpoint_and_resume_continue_bit_for_bit(bed, tmp_path):
 def test_resume_of_a_folder_without_checkpoints_raises(tmp_path):
     with pytest.raises(polydem.RunError, match="checkpoint"):
         polydem.Simulation.resume(tmp_path)
+
+
+def test_ctrl_c_stops_a_run_with_a_checkpoint_that_resumes_bit_for_bit(bed, tmp_path):
+    import _thread
+    import threading
+
+    bed["simulation"]["duration"] = 0.6
+    whole = polydem.Simulation(bed, tmp_path / "whole")
+    whole.run()
+    stopped = polydem.Simulation(bed, tmp_path / "stopped")
+    # Ctrl-C as the interpreter sees it, while the run steps with the GIL released.
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    with pytest.raises(KeyboardInterrupt, match="checkpoint written"):
+        stopped.run()
+    assert 0 < stopped.steps < whole.steps
+    resumed = polydem.Simulation.resume(tmp_path / "stopped")
+    assert resumed.steps == stopped.steps
+    resumed.run()
+    assert np.array_equal(resumed.positions, whole.positions)
