@@ -15,7 +15,7 @@ pub struct Material {
     pub youngs_modulus: f64,
     /// Poisson ratio [-], in (−1, 0.5).
     pub poisson_ratio: f64,
-    /// Normal coefficient of restitution [-], in (0, 1].
+    /// Normal coefficient of restitution [-], in [0, 1] (0: perfectly plastic).
     pub restitution: f64,
     /// Coulomb friction coefficient [-].
     pub friction: f64,

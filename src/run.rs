@@ -190,6 +190,7 @@ fn start<'a>(
             out_dir.display()
         )));
     }
+    prepared.world.update_contacts();
     let names = ShapeNames::new(prepared.shape_names.clone());
     let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output, names)?;
     output.write(&prepared.world)?;

@@ -368,6 +368,14 @@ fn describe(scene: &Path, p: &Prepared) {
     };
     println!("time step    {:.4e} s ({how})", w.time_step());
     println!("             estimate: {}", p.estimate.reason);
+    if let Some(deep) = &p.estimate.deepest {
+        println!(
+            "overlap      at most {:.1}% of the radius, for {} (refused above {:.0}%)",
+            100.0 * deep.ratio,
+            deep.what,
+            100.0 * polydem::scene::MAX_OVERLAP
+        );
+    }
     if p.output_interval == p.csv_interval {
         println!(
             "duration     {} s = {steps} steps, output every {} s",

@@ -707,6 +707,7 @@ mod tests {
                         store.entries.history[k] = History {
                             tangential_spring: spring,
                             tangential_stiffness: 1.0,
+                            ..History::default()
                         };
                         state.1 = true;
                         state.2 = spring;

@@ -23,12 +23,11 @@ pub struct NormalForce {
     pub damping_coefficient: f64,
 }
 
-impl NormalForce {
-    /// Work done by the non-elastic part of the normal force against the relative motion over
-    /// `dt`: what damping (and the no-tension cut-off) took out of the bodies.
-    pub fn dissipated(&self, overlap_rate: f64, dt: f64) -> f64 {
-        (self.total - self.elastic) * overlap_rate * dt
-    }
+/// The dashpot `gamma` [N s/m] on the pair of effective mass `effective_mass`, held to what the
+/// explicit step `dt` can take ([`super::DASHPOT_BOUND`]).
+#[inline(always)]
+pub fn bounded_dashpot(gamma: f64, effective_mass: f64, dt: f64) -> f64 {
+    gamma.min(super::DASHPOT_BOUND * effective_mass / dt)
 }
 
 /// F_el(δ), S_n(δ) and the elastic energy for the law, without damping; and Hertz's contact
@@ -97,7 +96,7 @@ pub fn volume_law(
 /// Normal force with viscous damping F_d = c √(m* S_n) dδ/dt (the form of Tsuji et al. 1992 for
 /// Hertz, of Cundall & Strack 1979 for the linear spring), cut off at zero so that a contact never
 /// pulls: the damping constant c of [`super::restitution`] accounts for the cut-off.
-pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
+pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
     let ((elastic, stiffness, elastic_energy, contact_radius), c, pressure_couple) =
         match k.overlap_volume {
             Some(v) => {
@@ -114,7 +113,11 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
                 DVec3::ZERO,
             ),
         };
-    let damping_coefficient = c * (k.effective_mass * stiffness).sqrt();
+    let damping_coefficient = bounded_dashpot(
+        c * (k.effective_mass * stiffness).sqrt(),
+        k.effective_mass,
+        dt,
+    );
     let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);
     NormalForce {
         elastic,

@@ -17,6 +17,11 @@ pub fn damping_for_restitution(law: NormalLaw, restitution: f64) -> f64 {
     if restitution >= 1.0 {
         return 0.0;
     }
+    if restitution <= 0.0 {
+        // Perfectly plastic: no finite dashpot reaches it; the law holds it to the strongest
+        // the step can take (`contact_law::DASHPOT_BOUND`).
+        return f64::INFINITY;
+    }
     let mut hi = 1.0;
     while restitution_for_damping(law, hi) > restitution && hi < 1e6 {
         hi *= 2.0;

@@ -37,7 +37,8 @@ pub fn rocking_torque(
     if law.damping_volume <= 0.0 || overlap.area <= 0.0 || normal.total <= 0.0 {
         return RockingTorque::default();
     }
-    let gamma_n = law.damping_volume * (k.effective_mass * normal.stiffness).sqrt();
+    // The normal dashpot as the law used it (held to what the step can take).
+    let gamma_n = normal.damping_coefficient;
     let radius_squared = overlap.area / std::f64::consts::PI;
     let gamma = gamma_n * 0.25 * radius_squared;
     let omega = k.relative_angular_velocity;

@@ -7,7 +7,11 @@ use crate::math::DVec3;
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TangentialForce {
     pub force: DVec3,
+    /// The dashpot's part of `force` (zero while sliding): its work is booked a step late, with
+    /// the normal dashpot's (`contact_law::History::damper_force`).
+    pub damper: DVec3,
     pub elastic_energy: f64,
+    /// What sliding took out this step (the spring's work less its change in energy).
     pub dissipated: f64,
 }
 
@@ -60,16 +64,20 @@ pub fn tangential_force(
     } else {
         law.tangential_damping_ratio
     };
-    let gamma = normal.damping_coefficient * ratio;
+    // Held, as the normal one, to what the step can take, on the tangential share of m*.
+    let gamma = super::normal::bounded_dashpot(
+        normal.damping_coefficient * ratio,
+        super::TANGENTIAL_MASS_SHARE * k.effective_mass,
+        dt,
+    );
     let damping = -gamma * k.tangential_velocity_end;
     let trial_xi = old_xi + k.tangential_velocity * dt;
     let trial = -kt * trial_xi + damping;
     let limit = law.friction * normal.total;
     // Compared squared: a sticking contact needs no root.
     let trial_squared = trial.length_squared();
-    let (force, xi, damper_loss) = if trial_squared <= limit * limit {
-        let loss = gamma * k.tangential_velocity_end.length_squared() * dt;
-        (trial, trial_xi, loss)
+    let (force, xi, damper) = if trial_squared <= limit * limit {
+        (trial, trial_xi, damping)
     } else {
         // Sliding: the force is capped at μ F_n along the trial force, and the spring alone holds
         // it (ξ = −F/k_t), the dashpot off (Luding 2008's rule for the static limit, without
@@ -78,20 +86,21 @@ pub fn tangential_force(
         // μ F_n, and when k_t grows the next step's capped force pushes the body along its slip
         // (issue #11). Here the spring stays against the slip, so the next trial force is too.
         let force = trial * (limit / trial_squared.sqrt());
-        (force, force * (-1.0 / kt), 0.0)
+        (force, force * (-1.0 / kt), DVec3::ZERO)
     };
     history.tangential_spring = xi;
     history.tangential_stiffness = kt;
     let elastic_energy = 0.5 * kt * xi.length_squared();
     // Work of the spring on the relative motion by the trapezoidal rule (exact for a sticking
     // spring, whose energy change it then equals), less the change in stored energy: what
-    // sliding took out. Plus what the dashpot took out.
+    // sliding took out. (What the dashpot took out is booked next step.)
     let spring_work = 0.5 * (old_kt * old_xi + kt * xi).dot(k.tangential_velocity) * dt;
     let old_energy = 0.5 * old_kt * old_xi.length_squared();
     TangentialForce {
         force,
+        damper,
         elastic_energy,
-        dissipated: spring_work - (elastic_energy - old_energy) + damper_loss,
+        dissipated: spring_work - (elastic_energy - old_energy),
     }
 }
 
@@ -141,6 +150,7 @@ mod tests {
             overlap_rate,
             tangential_velocity: slip,
             tangential_velocity_end: slip_end,
+            velocity_start: slip,
             relative_angular_velocity: DVec3::ZERO,
             effective_radius: 1e-3,
             effective_mass: 1e-5,
@@ -152,10 +162,14 @@ mod tests {
     /// spring stretched by this step's slip, plus the dashpot) exceeded it, i.e. the contact slid.
     fn step(k: &Kinematics, history: &mut History, dt: f64) -> (DVec3, f64, bool) {
         let law = law();
-        let n = normal_force(&law, k);
+        let n = normal_force(&law, k, dt);
         let limit = law.friction * n.total;
         let kt = stiffness(&law, &n, k);
-        let gamma = n.damping_coefficient * law.tangential_damping_ratio;
+        let gamma = crate::contact_law::normal::bounded_dashpot(
+            n.damping_coefficient * law.tangential_damping_ratio,
+            crate::contact_law::TANGENTIAL_MASS_SHARE * k.effective_mass,
+            dt,
+        );
         let trial_xi =
             rotate_into_plane(history.tangential_spring, k.normal) + k.tangential_velocity * dt;
         let trial = -kt * trial_xi - gamma * k.tangential_velocity_end;

@@ -38,9 +38,12 @@ pub fn twisting_torque(
     let twist_rate = k.relative_angular_velocity.dot(k.normal);
     // A dashpot of the same spread as the spring, so that a twisting oscillation dies out like a
     // tangential one: γ_tw = γ_t a²/2 with γ_t = c √(m* k_t).
-    let gamma = law.damping_volume
-        * (k.effective_mass * tangential_stiffness).sqrt()
-        * 0.5
+    // The tangential dashpot held to what the step can take, as in `tangential_force`.
+    let gamma = super::normal::bounded_dashpot(
+        law.damping_volume * (k.effective_mass * tangential_stiffness).sqrt(),
+        super::TANGENTIAL_MASS_SHARE * k.effective_mass,
+        dt,
+    ) * 0.5
         * radius
         * radius;
     let damping = -gamma * twist_rate;

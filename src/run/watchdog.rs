@@ -56,9 +56,8 @@ impl EnergyWatch {
                  {drift:.3e} J, more than half of all the energy that has been in play \
                  ({:.3e} J); a sound run stays within a percent. Kinetic energy is now {:.3e} J. \
                  Likely causes: a time step above the stable one (`force_time_step`; `polydem \
-                 check` prints the estimate), a restitution near 0 (below about 0.01 the dashpot \
-                 is stiffer than the step can follow: give a smaller `time_step`), or material \
-                 values out of any physical range. The frames written before are valid.",
+                 check` prints the estimate), or material values out of any physical range. The \
+                 frames written before are valid.",
                 world.time(),
                 world.steps_done(),
                 self.in_play,
@@ -78,9 +77,9 @@ pub fn too_fast(world: &World, limit: f64) -> Option<String> {
     Some(format!(
         "the run blew up at t = {:.6e} s (step {}): body {} moves at {:.3e} m/s, more than ten \
          times the fastest impact the scene can bring ({:.3e} m/s: its initial and insertion \
-         speeds, a fall across the whole scene, its walls' surfaces). Likely causes: a time step \
-         above the stable one, a restitution near 0, or material values out of any physical \
-         range. The frames written before are valid.",
+         speeds, a fall across the whole scene, its walls' surfaces, the release of overlaps at \
+         the start). Likely causes: a time step above the stable one, or material values out of \
+         any physical range. The frames written before are valid.",
         world.time(),
         world.steps_done(),
         b.id[i],

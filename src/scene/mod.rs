@@ -17,6 +17,7 @@ mod wall_sides;
 pub mod walls;
 
 pub use error::{KeyPath, SceneError};
+pub use time_step::MAX_OVERLAP;
 
 use crate::body::BodyInit;
 use crate::contact_law::NormalLaw;
@@ -384,7 +385,7 @@ impl Scene {
             gravity: strongest,
         })?;
         let extent = self.extent(&bodies, &planes, &mesh_walls);
-        let speed_limit = (10.0 * self.impact_speed(strongest, &bodies, &mesh_walls)).max(1.0);
+        let impact_speed = self.impact_speed(strongest, &bodies, &mesh_walls);
         self.check_threads()?;
         let world = World::new(WorldConfig {
             time_step,
@@ -419,6 +420,24 @@ impl Scene {
         for (init, _) in bodies {
             world.add_body(init);
         }
+        // The overlaps present at the start are contacts from the first report on.
+        world.update_contacts();
+        // Their springs push bodies apart: the lightest body could take all their energy.
+        let release_speed = {
+            let b = world.bodies();
+            let lightest = b.mass.iter().copied().fold(f64::INFINITY, f64::min);
+            let elastic: f64 = world
+                .contacts()
+                .iter()
+                .map(|c| c.report.elastic_energy)
+                .sum();
+            if lightest.is_finite() && lightest > 0.0 {
+                (2.0 * elastic / lightest).sqrt()
+            } else {
+                0.0
+            }
+        };
+        let speed_limit = (10.0 * impact_speed.max(release_speed)).max(1.0);
         let duration = spec.simulation.duration;
         Ok(Prepared {
             world,

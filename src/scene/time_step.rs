@@ -26,6 +26,9 @@ pub(super) struct StepInputs<'a> {
 /// More steps than any run can take: refused, as a sign of a scale error in the scene.
 const MAX_STEPS: f64 = 1e11;
 
+/// The deepest overlap an expected impact may bring, as a fraction of the body's radius.
+pub const MAX_OVERLAP: f64 = 0.5;
+
 impl Scene {
     /// The time step to run with, the stable estimate, and whether the step was chosen
     /// automatically; an error if there is nothing to simulate or the user's step is above the
@@ -84,6 +87,7 @@ impl Scene {
             TimeStep::Seconds(dt) => (dt, false),
         };
         self.check_step_count(dt, &estimate)?;
+        self.check_overlaps(&estimate, inputs.materials)?;
         match spec.simulation.time_step {
             TimeStep::Auto => Ok((dt, estimate, automatic)),
             TimeStep::Seconds(dt) => {
@@ -143,6 +147,55 @@ impl Scene {
         Ok(())
     }
 
+    /// Bodies so soft for their size and speed that an expected impact would overlap them by
+    /// more than [`MAX_OVERLAP`] of their radius are refused: no contact law holds there, bodies
+    /// pass through each other, and the energy ledger cannot close (issue #11, point 4).
+    fn check_overlaps(
+        &self,
+        estimate: &timestep::Estimate,
+        materials: &[Material],
+    ) -> Result<(), SceneError> {
+        let Some(deep) = &estimate.deepest else {
+            return Ok(());
+        };
+        if deep.ratio <= MAX_OVERLAP {
+            return Ok(());
+        }
+        let material = &materials[deep.material as usize];
+        // The stiffness that brings the overlap down to a tenth of the radius.
+        let target = 0.1;
+        let (key, advice) = match deep.modulus_power {
+            Some(power) => (
+                KeyPath::entry("material", deep.material as usize).key("youngs_modulus"),
+                format!(
+                    "give '{}' a youngs_modulus of at least {:.1e} Pa (now {:.1e} Pa)",
+                    material.name,
+                    material.youngs_modulus * (deep.ratio / target).powf(power),
+                    material.youngs_modulus
+                ),
+            ),
+            None => (
+                KeyPath::table("contact").key("stiffness"),
+                format!(
+                    "raise [contact] stiffness {:.0}-fold",
+                    (deep.ratio / target).powi(2).ceil()
+                ),
+            ),
+        };
+        Err(self.error(
+            key,
+            format!(
+                "too soft for these bodies at these speeds: {} would overlap by {:.0}% of the \
+                 radius (a contact law holds for overlaps of a few percent; beyond about half the \
+                 radius bodies pass through each other and the energy is no longer conserved). \
+                 The speed is the fastest the scene can bring (initial and insertion speeds, a fall \
+                 across its height, its walls' surfaces); {advice}, or lower the speeds",
+                deep.what,
+                100.0 * deep.ratio
+            ),
+        ))
+    }
+
     /// The largest impact speed to expect: the fastest initial or insertion speed plus a free
     /// fall across the whole height of the scene (bodies and insertion regions, along gravity).
     pub(super) fn impact_speed(
@@ -176,6 +229,15 @@ impl Scene {
                 );
                 low = low.min(p.dot(down));
                 high = high.max(p.dot(down));
+            }
+        }
+        // A floor: bodies fall onto it from wherever they are.
+        if low <= high {
+            for p in &self.spec.planes {
+                let normal = DVec3::from(p.normal).normalize_or_zero();
+                if normal.dot(down) < -0.5 {
+                    high = high.max(DVec3::from(p.point).dot(down));
+                }
             }
         }
         let height = if high > low { high - low } else { 0.0 };

@@ -539,12 +539,12 @@ impl Checker<'_> {
 
     fn restitution(&self, key: KeyPath, e: f64) -> Result<(), SceneError> {
         self.finite(key.clone(), e)?;
-        if e > 0.0 && e <= 1.0 {
+        if (0.0..=1.0).contains(&e) {
             Ok(())
         } else {
             Err(self
                 .scene
-                .error(key, format!("{e} is not allowed: must lie in (0, 1]")))
+                .error(key, format!("{e} is not allowed: must lie in [0, 1]")))
         }
     }
 

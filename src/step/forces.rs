@@ -168,7 +168,8 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
 pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Response {
     let mut lost = 0.0;
     if *history != History::default() {
-        lost = history.stored_energy();
+        // The springs' energy, and the last step's dashpot work, which no next step will book.
+        lost = history.stored_energy() + history.damper_work_estimate as f64;
         *history = History::default();
     }
     if let Some(spin) = spin.filter(|s| **s != SpinHistory::default()) {
@@ -270,6 +271,7 @@ pub(crate) fn kinematics(
         overlap_rate: -normal_speed_end,
         tangential_velocity: relative_velocity - g.normal * normal_speed,
         tangential_velocity_end: relative_velocity_end - g.normal * normal_speed_end,
+        velocity_start: 2.0 * relative_velocity - relative_velocity_end,
         relative_angular_velocity,
         effective_radius,
         effective_mass,

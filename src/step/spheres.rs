@@ -230,6 +230,8 @@ mod tests {
             let start = History {
                 tangential_spring: spring,
                 tangential_stiffness: 1e3,
+                damper_force: (spring * 1e2).as_vec3(),
+                damper_work_estimate: 1e-6,
             };
             let start_spin = SpinHistory {
                 rolling_torque: spring * 1e-2,
