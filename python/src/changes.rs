@@ -132,6 +132,8 @@ pub fn remove(run: &mut SteppedRun, ids: &[u64]) -> PyResult<()> {
         keep[i] = false;
     }
     world.remove_bodies(&keep);
+    // Contacts and energies read before the next step see the bodies as they are now.
+    world.update_contacts();
     Ok(())
 }
 
@@ -201,5 +203,7 @@ pub fn insert(run: &mut SteppedRun, new: NewBody<'_>) -> PyResult<u64> {
             angular_velocity: new.angular_velocity,
         })
         .map_err(value_error)?;
+    // Contacts and energies read before the next step include the new body's.
+    run.prepared_mut().world.update_contacts();
     Ok(run.world().bodies().id[index])
 }
