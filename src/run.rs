@@ -17,10 +17,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 mod resume;
+mod stepwise;
 mod trial;
 mod watchdog;
 
 pub use resume::{resume, ResumeOptions};
+pub use stepwise::SteppedRun;
 pub use trial::{bodies_to_come, Trial};
 pub use watchdog::{too_fast, EnergyWatch, ALLOWED_DRIFT};
 
@@ -167,6 +169,19 @@ pub fn run_with(
     control: Control,
     mut observe: impl FnMut(RunEvent),
 ) -> Result<RunOutput, RunError> {
+    let mut session = start(prepared, out_dir, control, &mut observe)?;
+    session.drive(observe)?;
+    Ok(session.output)
+}
+
+/// A run set up and its first frame written, before its first step: [`run_with`] drives it to
+/// the end at once, a [`SteppedRun`] in pieces.
+fn start<'a>(
+    prepared: &'a mut Prepared,
+    out_dir: &Path,
+    control: Control,
+    observe: &mut impl FnMut(RunEvent),
+) -> Result<Session<'a>, RunError> {
     let cleared = crate::io::output::clear_previous_run(out_dir)?;
     if cleared > 0 {
         observe(RunEvent::Note(format!(
@@ -182,7 +197,7 @@ pub fn run_with(
     let templates = templates(prepared);
     let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
     let watch = EnergyWatch::new(&prepared.world);
-    let mut session = Session {
+    Ok(Session {
         prepared,
         output,
         control,
@@ -190,15 +205,26 @@ pub fn run_with(
         fingerprint,
         watch,
         warned: false,
-    };
-    session.drive(observe)?;
-    Ok(session.output)
+    })
 }
 
 impl Session<'_> {
     /// Runs from the world's current step to the end.
-    fn drive(&mut self, mut observe: impl FnMut(RunEvent)) -> Result<(), RunError> {
+    fn drive(&mut self, observe: impl FnMut(RunEvent)) -> Result<(), RunError> {
+        self.drive_until(u64::MAX, observe)
+    }
+
+    /// Runs from the world's current step to step `pause` or the end, whichever comes first. A
+    /// run paused and driven on writes what it would have written had it not paused: outputs
+    /// and checkpoints fall on their own steps, the end's (a last frame, row and checkpoint)
+    /// only at the end.
+    fn drive_until(
+        &mut self,
+        pause: u64,
+        mut observe: impl FnMut(RunEvent),
+    ) -> Result<(), RunError> {
         let total_steps = total_steps(self.prepared);
+        let pause = pause.min(total_steps);
         observe(RunEvent::Start {
             from: self.prepared.world.steps_done(),
             to: total_steps,
@@ -223,16 +249,12 @@ impl Session<'_> {
         let mut next_checkpoint = checkpoint_step
             .map(|at| at(first_after(self.prepared.world.steps_done(), at)))
             .unwrap_or(u64::MAX);
-        while self.prepared.world.steps_done() < total_steps {
+        while self.prepared.world.steps_done() < pause {
             let next_insertion = self
                 .prepared
                 .next_insertion_time()
                 .map(|t| (t / dt).round() as u64);
-            let until = (next_frame
-                .min(next_row)
-                .min(total_steps)
-                .min(next_checkpoint))
-            .min(
+            let until = (next_frame.min(next_row).min(pause).min(next_checkpoint)).min(
                 next_insertion
                     .unwrap_or(u64::MAX)
                     .max(self.prepared.world.steps_done() + 1),
@@ -294,6 +316,9 @@ impl Session<'_> {
                 let at = checkpoint_step.expect("a checkpoint step comes from an interval");
                 next_checkpoint = at(first_after(done, at));
             }
+        }
+        if self.prepared.world.steps_done() < total_steps {
+            return Ok(()); // paused
         }
         self.checkpoint(&mut observe)?;
         Ok(())

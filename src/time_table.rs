@@ -116,6 +116,16 @@ impl<V: Value> TimeTable<V> {
         sum + (self.value(from) + self.value(t)) * (0.5 * (t - from))
     }
 
+    /// The same table up to time `t`, then going linearly from its value at `t` to `value` at
+    /// `until` (> `t`) and staying there: a change made during a run, which leaves the past
+    /// (and so the integral up to `t`: where a wall has got to) as it was.
+    pub fn changed_at(&self, t: f64, until: f64, value: V) -> Result<Self, TableError> {
+        let mut knots: Vec<(f64, V)> = self.knots.iter().copied().filter(|k| k.0 < t).collect();
+        knots.push((t, self.value(t)));
+        knots.push((until, value));
+        Self::new(knots)
+    }
+
     /// Whether the value is the same at all times.
     pub fn is_constant(&self) -> bool
     where
@@ -129,6 +139,21 @@ impl<V: Value> TimeTable<V> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn a_change_at_a_time_keeps_the_past_and_its_integral() {
+        let t = TimeTable::new(vec![(0.0, 1.0), (2.0, 3.0), (5.0, 0.0)]).unwrap();
+        let changed = t.changed_at(1.0, 1.5, 10.0).unwrap();
+        assert_eq!(changed.knots(), &[(0.0, 1.0), (1.0, 2.0), (1.5, 10.0)]);
+        assert_eq!(changed.integral(1.0), t.integral(1.0));
+        assert_eq!(changed.value(7.0), 10.0);
+        // An empty table (no motion) is zero up to the change.
+        let empty = TimeTable::<f64>::default()
+            .changed_at(0.5, 0.6, 2.0)
+            .unwrap();
+        assert_eq!(empty.integral(0.5), 0.0);
+        assert!(t.changed_at(1.0, 1.0, 0.0).is_err());
+    }
 
     #[test]
     fn values_between_before_and_after_the_knots() {

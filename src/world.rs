@@ -17,11 +17,13 @@ use crate::wall::Plane;
 use crate::wall::{MeshWall, WallState};
 
 mod config;
+mod interventions;
 mod population;
 mod snapshot;
 mod view;
 
 pub use config::WorldConfig;
+pub use interventions::WallMotionChangeError;
 pub use snapshot::{RestoreError, ShapeRecord, WorldState};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances

@@ -16,7 +16,7 @@ use crate::math::Aabb;
 /// A pair of body indices with `.0 < .1`.
 pub type Pair = (u32, u32);
 
-pub trait BroadPhase: Send {
+pub trait BroadPhase: Send + Sync {
     /// Replaces `pairs` with every pair of boxes that overlap (touching counts), each once with
     /// the smaller index first, in ascending order (so later stages are deterministic).
     fn find_pairs(&mut self, boxes: &[Aabb], pairs: &mut Vec<Pair>);

@@ -3,7 +3,8 @@
 //! sense, see `checkpoint::ALLOWED_CHANGES`), given the checkpoint's state, and run on into the
 //! same output series.
 
-use super::{templates, Control, RunError, RunEvent, Session};
+use super::stepwise::{Detached, SteppedRun};
+use super::{templates, Control, RunError, RunEvent};
 use crate::checkpoint::{self, SceneRecord, ALLOWED_CHANGES};
 use crate::io::body_values::ShapeNames;
 use crate::io::output::RunOutput;
@@ -35,6 +36,30 @@ pub fn resume(
     control: Control,
     mut observe: impl FnMut(RunEvent),
 ) -> Result<(Prepared, RunOutput), RunError> {
+    let mut run = SteppedRun::resume(out_dir, options, control, &mut observe)?;
+    run.advance_to(u64::MAX, observe)?;
+    Ok(run.into_parts())
+}
+
+impl SteppedRun {
+    /// The run in `out_dir` as its newest readable checkpoint left it, ready to be driven on
+    /// (see [`resume`]).
+    pub fn resume(
+        out_dir: &Path,
+        options: &ResumeOptions,
+        control: Control,
+        mut observe: impl FnMut(RunEvent),
+    ) -> Result<Self, RunError> {
+        restore(out_dir, options, control, &mut observe)
+    }
+}
+
+fn restore(
+    out_dir: &Path,
+    options: &ResumeOptions,
+    control: Control,
+    observe: &mut impl FnMut(RunEvent),
+) -> Result<SteppedRun, RunError> {
     let latest = checkpoint::latest(out_dir)?;
     for skipped in &latest.skipped {
         observe(RunEvent::Note(format!(
@@ -43,7 +68,7 @@ pub fn resume(
         )));
     }
     let saved = latest.checkpoint;
-    let record = scene_to_continue_with(&saved.scene, options, &mut observe)?;
+    let record = scene_to_continue_with(&saved.scene, options, observe)?;
     let mut scene = Scene::parse(&record.file, record.text.clone())
         .map_err(|e| RunError::Resume(e.to_string()))?;
     if let Some(threads) = options.threads {
@@ -82,10 +107,9 @@ pub fn resume(
     output.relocate(out_dir);
     output.set_shape_names(ShapeNames::new(prepared.shape_names.clone()));
     let watch = super::EnergyWatch::new(&prepared.world);
-    let mut session = Session {
+    let rest = Detached {
         watch,
         warned: false,
-        prepared: &mut prepared,
         output,
         control: Control {
             scene: Some(record),
@@ -94,9 +118,10 @@ pub fn resume(
         templates,
         fingerprint,
     };
-    session.drive(observe)?;
-    let output = session.output;
-    Ok((prepared, output))
+    Ok(SteppedRun {
+        prepared,
+        rest: Some(rest),
+    })
 }
 
 /// The scene to continue with: the one stored in the checkpoint, unless the file it came from has

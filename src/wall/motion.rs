@@ -21,6 +21,10 @@ pub enum MotionError {
     Axis,
     #[error("the rotation point, rate and surface velocity must be finite")]
     NonFinite,
+    #[error("the wall has no rotation axis yet: give one (a point and a direction)")]
+    NoAxis,
+    #[error("the wall has turned about its axis already: its axis cannot change")]
+    AxisOfTurnedWall,
 }
 
 /// Where a moving wall is at one moment: world point = `rotation` × reference point +
@@ -130,6 +134,53 @@ impl WallMotion {
             return Err(MotionError::NonFinite);
         }
         self.surface_velocity = velocity;
+        Ok(self)
+    }
+
+    /// The same motion up to time `t`, then with its translation velocity changing linearly to
+    /// `velocity` [m/s] by time `until` and staying there (a change during a run: where the
+    /// wall is at `t` stays as it was).
+    pub fn with_velocity_changed_at(
+        mut self,
+        t: f64,
+        until: f64,
+        velocity: DVec3,
+    ) -> Result<Self, MotionError> {
+        self.velocity_table = self.velocity_table.changed_at(t, until, velocity)?;
+        Ok(self)
+    }
+
+    /// The same motion up to time `t`, then with its rotation rate changing linearly to `rpm`
+    /// by time `until` and staying there. A wall without a rotation axis needs one, `axis` (a
+    /// point and a direction); a wall that has turned keeps the axis it has.
+    pub fn with_rpm_changed_at(
+        mut self,
+        t: f64,
+        until: f64,
+        rpm: f64,
+        axis: Option<(DVec3, DVec3)>,
+    ) -> Result<Self, MotionError> {
+        if !rpm.is_finite() {
+            return Err(MotionError::NonFinite);
+        }
+        if let Some((point, direction)) = axis {
+            let direction = direction.try_normalize().ok_or(MotionError::Axis)?;
+            if !is_finite_vec(point) {
+                return Err(MotionError::NonFinite);
+            }
+            let same = direction == self.axis && point == self.axis_point;
+            if !same {
+                if self.spin.integral(t) != 0.0 {
+                    return Err(MotionError::AxisOfTurnedWall);
+                }
+                self.axis = direction;
+                self.axis_point = point;
+            }
+        } else if self.axis == DVec3::ZERO {
+            return Err(MotionError::NoAxis);
+        }
+        let per_second = std::f64::consts::TAU / 60.0;
+        self.spin = self.spin.changed_at(t, until, rpm * per_second)?;
         Ok(self)
     }
 

@@ -80,7 +80,7 @@ impl World {
     }
 
     /// Kinetic (translational and rotational) plus gravitational energy of one body.
-    fn body_energy(&self, i: usize) -> f64 {
+    pub(super) fn body_energy(&self, i: usize) -> f64 {
         let b = &self.bodies;
         0.5 * b.mass[i] * b.velocity[i].length_squared()
             + integrate::rotation::rotational_energy(

@@ -212,7 +212,7 @@ impl World {
 
 /// The farthest a corner of the wall's bounding box is between two poses (the most any of its
 /// points is, the distance being convex in the point).
-fn farthest_move(wall: &MeshWall, a: &WallPose, b: &WallPose) -> f64 {
+pub(super) fn farthest_move(wall: &MeshWall, a: &WallPose, b: &WallPose) -> f64 {
     let bounds = wall.bounds();
     (0..8)
         .map(|k| {
