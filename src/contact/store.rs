@@ -322,7 +322,7 @@ impl ContactStore {
     /// After the bodies were put in a new order (`new_index[old] = new`, see
     /// `step::space_order`): renumbers the entries and sorts them again. A body pair keeps its
     /// lower index as `a`, so a pair whose order turned is seen from its other side: its normal,
-    /// tangential spring, rolling torque, force and moments change sign. Nothing else changes; the
+    /// tangential spring, dashpot force, rolling torque, force and moments change sign. Nothing else changes; the
     /// per-body index lists are stale until the next [`ContactStore::set_candidates`].
     pub fn permute(&mut self, new_index: &[u32]) {
         let e = &mut self.entries;
@@ -336,6 +336,7 @@ impl ContactStore {
                     g.normal = -g.normal;
                     let h = &mut e.history[k];
                     h.tangential_spring = -h.tangential_spring;
+                    h.damper_force = -h.damper_force;
                     if let Some(spin) = e.spin.get_mut(k) {
                         spin.rolling_torque = -spin.rolling_torque;
                     }
