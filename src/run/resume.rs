@@ -81,10 +81,15 @@ pub fn resume(
     let mut output = saved.progress.output;
     output.relocate(out_dir);
     output.set_shape_names(ShapeNames::new(prepared.shape_names.clone()));
+    // Drop what the stopped run wrote after its checkpoint (a frame at an interrupt, rows).
+    output.rewind()?;
     let watch = super::EnergyWatch::new(&prepared.world);
+    let sides = super::WallSides::new(&prepared.world);
     let mut session = Session {
         watch,
         warned: false,
+        sides,
+        warned_sides: false,
         prepared: &mut prepared,
         output,
         control: Control {

@@ -4,6 +4,9 @@
 //! for a long while (issue #12); the ledger shows it at once.
 
 use crate::energy::EnergyReport;
+use crate::geometry::bvh::Bvh;
+use crate::geometry::point_in_polyhedron::{locate_point_bvh, Location};
+use crate::math::DVec3;
 use crate::World;
 
 /// The ledger total may drift by at most this fraction of the energy in play before the run is
@@ -87,6 +90,125 @@ pub fn too_fast(world: &World, limit: f64) -> Option<String> {
         b.velocity[i].length(),
         limit / 10.0
     ))
+}
+
+/// The closed mesh walls of a world, each with the side of it that is solid: a body whose centre
+/// lies there has gone through the wall, a blow-up that no energy or speed check need see (a body
+/// jumping through a wall in one step touches nothing). Open sheets (a chute) have no inside: a
+/// body behind one is refused at the start (`scene::wall_sides`) and shows during the run only by
+/// the other checks.
+pub struct WallSides {
+    walls: Vec<ClosedWall>,
+}
+
+/// One closed mesh wall, in its reference placement (bodies are taken there by its pose).
+struct ClosedWall {
+    /// The wall's index among the mesh walls.
+    index: usize,
+    vertices: Vec<DVec3>,
+    triangles: Vec<[usize; 3]>,
+    bvh: Bvh,
+    /// Whether the solid side is inside the surface (triangles facing out: a solid block, a
+    /// screw's blade) or outside it (triangles facing in: a closed container). Decided by the
+    /// sign of the enclosed volume, so a container holding a block is right for both: a point
+    /// is on the solid side when its crossing parity says `Inside` for a net outward wall and
+    /// `Outside` for a net inward one.
+    solid_inside: bool,
+}
+
+impl WallSides {
+    /// The closed mesh walls of `world` (open ones and ones enclosing no volume are left out).
+    pub fn new(world: &World) -> Self {
+        let walls = world
+            .mesh_walls()
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| w.is_closed())
+            .filter_map(|(index, w)| {
+                let vertices = w.vertices().to_vec();
+                let triangles: Vec<[usize; 3]> = w
+                    .triangles()
+                    .iter()
+                    .map(|t| t.map(|v| v as usize))
+                    .collect();
+                let volume: f64 = triangles
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.map(|v| vertices[v]);
+                        a.dot(b.cross(c)) / 6.0
+                    })
+                    .sum();
+                if !(volume.is_finite() && volume != 0.0) {
+                    return None;
+                }
+                let bvh = Bvh::new(&vertices, &triangles);
+                Some(ClosedWall {
+                    index,
+                    vertices,
+                    triangles,
+                    bvh,
+                    solid_inside: volume > 0.0,
+                })
+            })
+            .collect();
+        Self { walls }
+    }
+
+    /// Whether there is a closed wall to check.
+    pub fn is_empty(&self) -> bool {
+        self.walls.is_empty()
+    }
+
+    /// `None` while every body's centre is on the open side of every closed mesh wall; else a
+    /// message naming the first body found behind one (`names`: the walls' names, planes first,
+    /// as in `wall_forces.csv`). O(bodies × log triangles).
+    pub fn check(&self, world: &World, names: &[String]) -> Option<String> {
+        let b = world.bodies();
+        for wall in &self.walls {
+            let mesh = &world.mesh_walls()[wall.index];
+            let pose = mesh.pose();
+            let behind = (0..b.len()).find(|&i| {
+                let p = pose.to_reference(b.position[i]);
+                let solid = if wall.solid_inside {
+                    Location::Inside
+                } else {
+                    Location::Outside
+                };
+                // A non-finite centre is another check's business.
+                p.is_finite()
+                    && locate_point_bvh(p, &wall.vertices, &wall.triangles, &wall.bvh) == solid
+            });
+            let Some(i) = behind else { continue };
+            let name = names
+                .get(world.planes().len() + wall.index)
+                .map(|n| format!(" (\"{n}\" in wall_forces.csv)"))
+                .unwrap_or_default();
+            let side = if wall.solid_inside {
+                "inside the solid its triangles enclose"
+            } else {
+                "outside the closed container it forms"
+            };
+            let p = b.position[i];
+            return Some(format!(
+                "the run blew up at t = {:.6e} s (step {}): the centre of body {} is at \
+                 ({:.4e}, {:.4e}, {:.4e}) m, behind [[mesh_wall]] #{}{name}: {side}, where no \
+                 body can be. It has gone through the wall. Likely causes: a time step above the \
+                 stable one (a body moving further in one step than a contact can stop it; \
+                 `polydem check` prints the estimate), a wall too soft for the speed of the \
+                 bodies hitting it (a Young's modulus so low that the overlap grows past the \
+                 body's radius), or a wall moved by its `motion` faster than the bodies can \
+                 follow. The frames written before are valid.",
+                world.time(),
+                world.steps_done(),
+                b.id[i],
+                p.x,
+                p.y,
+                p.z,
+                wall.index + 1,
+            ));
+        }
+        None
+    }
 }
 
 #[cfg(test)]
