@@ -56,7 +56,11 @@ pub fn insert(
     let (min, max) = spec.bounds();
     let (min, max) = (DVec3::from(min), DVec3::from(max));
     let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
-    let radii = draw_radii(spec, shape, spec.volume(), &mut rng);
+    let count = spec.count_at(repetition);
+    if count == Some(0) {
+        return Ok(Vec::new()); // an inlet whose rate brings no body in this interval
+    }
+    let radii = draw_radii(spec, count, shape, spec.volume(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let mut obstacles = Obstacles::new(existing, planes, meshes, r_max);
     obstacles.region = Some(spec);
@@ -189,6 +193,7 @@ pub fn smallest_radius(spec: &InsertSpec, shape: Option<ShapeSize>) -> f64 {
 /// Radii for the insertion: `count` of them, or as many as make up `volume_fraction` of the region.
 fn draw_radii(
     spec: &InsertSpec,
+    count: Option<usize>,
     shape: Option<ShapeSize>,
     region_volume: f64,
     rng: &mut SplitMix64,
@@ -221,7 +226,7 @@ fn draw_radii(
         Some(shape) => shape.volume,
         None => 4.0 / 3.0 * PI * r.powi(3),
     };
-    match (spec.count, spec.volume_fraction) {
+    match (count, spec.volume_fraction) {
         (Some(n), _) => (0..n).map(|_| draw()).collect(),
         (None, Some(fraction)) => {
             let target = fraction * region_volume;
@@ -362,6 +367,7 @@ mod tests {
             region_min: Some([0.0; 3]),
             region_max: Some([1.0; 3]),
             cylinder: None,
+            inlet: None,
             count: Some(100),
             volume_fraction: None,
             radius: Some(0.05),

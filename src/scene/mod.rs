@@ -182,7 +182,7 @@ fn inserted_body(
     placed: &Placed,
     orientations: &mut crate::rng::SplitMix64,
 ) -> BodyInit {
-    let velocity = DVec3::from(spec.velocity);
+    let velocity = DVec3::from(spec.initial_velocity());
     match shape {
         None => sphere(placed.radius, material, placed.centre, velocity),
         Some(built) => {
