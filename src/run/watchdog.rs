@@ -138,7 +138,9 @@ impl WallSides {
                         a.dot(b.cross(c)) / 6.0
                     })
                     .sum();
-                if !(volume.is_finite() && volume != 0.0) {
+                // A sheet wound both ways (a plate with a back) is closed but encloses nothing:
+                // its volume is rounding noise, and it has no solid side.
+                if !(volume.is_finite() && volume.abs() > 1e-9 * w.area().powf(1.5)) {
                     return None;
                 }
                 let bvh = Bvh::new(&vertices, &triangles);
@@ -219,6 +221,97 @@ mod tests {
     use crate::math::DVec3;
     use crate::shape::{Shape, Sphere};
     use crate::WorldConfig;
+
+    fn world_with(walls: Vec<crate::wall::MeshWall>, positions: &[DVec3]) -> World {
+        let material = Material {
+            name: "m".into(),
+            density: 1000.0,
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.3,
+            restitution: 0.5,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        };
+        let laws = PairTable::new(
+            std::slice::from_ref(&material),
+            crate::contact_law::NormalLaw::Hertz,
+            1.0,
+            &[],
+        );
+        let mut world = World::new(WorldConfig {
+            time_step: 1e-5,
+            gravity: DVec3::ZERO,
+            materials: vec![material],
+            pair_laws: laws,
+            planes: Vec::new(),
+            broad_phase: Default::default(),
+            skin: None,
+            threads: 1,
+        })
+        .unwrap()
+        .with_mesh_walls(walls);
+        for &position in positions {
+            world.add_body(BodyInit {
+                shape: Shape::Sphere(Sphere::new(0.01)),
+                material: 0,
+                position,
+                orientation: crate::math::DQuat::IDENTITY,
+                velocity: DVec3::ZERO,
+                angular_velocity: DVec3::ZERO,
+            });
+        }
+        world
+    }
+
+    fn unit_box(facing: crate::wall::Facing) -> crate::wall::MeshWall {
+        crate::wall::generators::box_mesh(DVec3::splat(-1.0), DVec3::splat(1.0), 2, facing)
+            .unwrap()
+            .into_wall(0)
+            .unwrap()
+    }
+
+    #[test]
+    fn bodies_behind_closed_walls_are_found_on_the_solid_side_only() {
+        use crate::wall::Facing;
+        let (inside, outside) = (DVec3::new(0.3, -0.2, 0.5), DVec3::new(1.5, 0.0, 0.0));
+        // A container (facing in): outside is solid.
+        let world = world_with(vec![unit_box(Facing::Inward)], &[inside, outside]);
+        let sides = WallSides::new(&world);
+        let why = sides.check(&world, &[]).unwrap();
+        assert!(
+            why.contains("body 1") && why.contains("outside the closed"),
+            "{why}"
+        );
+        let world = world_with(vec![unit_box(Facing::Inward)], &[inside]);
+        assert!(WallSides::new(&world).check(&world, &[]).is_none());
+        // A block (facing out): inside is solid.
+        let world = world_with(vec![unit_box(Facing::Outward)], &[outside, inside]);
+        let why = WallSides::new(&world)
+            .check(&world, &["block".into()])
+            .unwrap();
+        assert!(
+            why.contains("body 1") && why.contains("inside the solid"),
+            "{why}"
+        );
+        assert!(why.contains("(\"block\" in wall_forces.csv)"), "{why}");
+        // An open sheet has no solid side: not checked.
+        let sheet =
+            crate::wall::MeshWall::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2]], 0)
+                .unwrap();
+        let world = world_with(vec![sheet], &[DVec3::new(0.1, 0.1, -0.5)]);
+        assert!(WallSides::new(&world).is_empty());
+        // A moving container (faster than anything, through the body from behind, where it
+        // does not act): the body is judged against where the wall is now.
+        let mut moving = unit_box(Facing::Inward);
+        moving.motion = crate::wall::WallMotion::fixed()
+            .with_velocity(DVec3::new(20.0, 0.0, 0.0))
+            .unwrap();
+        let mut world = world_with(vec![moving], &[DVec3::new(1.2, 0.0, 0.0)]);
+        let sides = WallSides::new(&world);
+        assert!(sides.check(&world, &[]).is_some());
+        world.run_steps(2500); // the box moved by 0.5 m: now from -0.5 to 1.5
+        assert!(sides.check(&world, &[]).is_none());
+    }
 
     #[test]
     fn a_body_faster_than_the_limit_is_named() {
