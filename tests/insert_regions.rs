@@ -229,12 +229,12 @@ fn inlet_keys_are_checked() {
         (
             "speed = 0.5, rate = 100.0",
             "every = 0.01",
-            "one of the two",
+            "one of the three",
         ),
         (
             "radius = 0.01, size = [0.1, 0.1], speed = 0.5, rate = 100.0",
             "every = 0.01",
-            "one of the two",
+            "one of the three",
         ),
         (
             "radius = 0.01, speed = 0.0, rate = 100.0",
@@ -279,4 +279,86 @@ fn inlet_keys_are_checked() {
     .err()
     .unwrap();
     assert!(both.contains("one of the three"), "{both}");
+}
+
+/// An ASCII STL of `triangles` (corners as given).
+fn stl(triangles: &[[[f64; 3]; 3]]) -> String {
+    let mut s = String::from("solid face\n");
+    for t in triangles {
+        s.push_str("facet normal 0 0 0\n outer loop\n");
+        for v in t {
+            s.push_str(&format!("  vertex {} {} {}\n", v[0], v[1], v[2]));
+        }
+        s.push_str(" endloop\nendfacet\n");
+    }
+    s + "endsolid face\n"
+}
+
+/// An L-shaped flat face at height `z`, wound counter-clockwise seen from above: three squares of
+/// 1 cm, the one at (1, 1) cm left out.
+fn l_shape(z: f64) -> Vec<[[f64; 3]; 3]> {
+    let mut t = Vec::new();
+    for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+        let p = |a: f64, b: f64| [0.01 * (i + a), 0.01 * (j + b), z];
+        t.push([p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0)]);
+        t.push([p(0.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)]);
+    }
+    t
+}
+
+/// Issue #14: an inlet face from a mesh file (an L, not convex), turned to face down: bodies
+/// appear only over the L, at least their radius inside its outline, and leave it downwards.
+#[test]
+fn an_inlet_face_from_a_mesh_file_streams_bodies_over_its_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let face = dir.path().join("face.stl");
+    std::fs::write(&face, stl(&l_shape(0.1))).unwrap();
+    let inlet = format!(
+        "inlet = {{ file = {:?}, flip = true, speed = 0.5, rate = 1000.0 }}",
+        face.display().to_string()
+    );
+    let (prepared, reports) = stream("", &inlet);
+    assert!(
+        reports.iter().all(|r| (r.1, r.2) == (10, false)),
+        "{reports:?}"
+    );
+    let b = prepared.world.bodies();
+    assert_eq!(b.len(), 60);
+    assert!(no_two_overlap(b), "bodies overlap");
+    let r = 0.001;
+    for i in 0..b.len() {
+        let p = b.position[i];
+        assert!((b.velocity[i] - DVec3::new(0.0, 0.0, -0.5)).length() < 1e-12);
+        assert!(p.z <= 0.1 - r + 1e-12, "behind the face: {p}");
+        let on_l = (r - 1e-12..=0.02 - r + 1e-12).contains(&p.x)
+            && (r - 1e-12..=0.02 - r + 1e-12).contains(&p.y)
+            && !(p.x > 0.01 - r + 1e-12 && p.y > 0.01 - r + 1e-12);
+        assert!(on_l, "not over the L, inside its outline: {p}");
+    }
+    // Some come over each arm of the L, not only its corner square.
+    assert!((0..b.len()).any(|i| b.position[i].x > 0.012));
+    assert!((0..b.len()).any(|i| b.position[i].y > 0.012));
+
+    // A face that is not flat, or one given a centre besides its file, is refused.
+    let mut bent = l_shape(0.1);
+    bent[5][2][2] = 0.105;
+    let bent_file = dir.path().join("bent.stl");
+    std::fs::write(&bent_file, stl(&bent)).unwrap();
+    let refused = build(&format!(
+        "method = \"random\"\nevery = 0.01\ninlet = {{ file = {:?}, speed = 0.5, rate = 100.0 }}",
+        bent_file.display().to_string()
+    ))
+    .err()
+    .unwrap();
+    assert!(
+        refused.contains("inlet.file") && refused.contains("not flat"),
+        "{refused}"
+    );
+    let refused = build(&format!(
+        "method = \"random\"\nevery = 0.01\ninlet = {{ file = {:?}, centre = [0.0, 0.0, 0.0], speed = 0.5, rate = 100.0 }}",
+        face.display().to_string()
+    ))
+    .err()
+    .unwrap();
+    assert!(refused.contains("leave out `centre`"), "{refused}");
 }

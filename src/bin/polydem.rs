@@ -383,7 +383,7 @@ fn describe(scene: &Path, p: &Prepared) {
     for s in &p.schedule {
         let (most, times) = polydem::run::bodies_to_come(s, p.duration);
         let what = s.spec.shape.as_deref().unwrap_or("sphere");
-        let how_many = match (s.spec.inlet, s.spec.count) {
+        let how_many = match (&s.spec.inlet, s.spec.count) {
             (Some(inlet), _) => format!(
                 "'{what}' bodies through an inlet, {} per second at {} m/s,",
                 inlet.rate, inlet.speed

@@ -601,19 +601,20 @@ pub struct CylinderRegion {
     pub length: f64,
 }
 
-/// An inlet (`fix insert/stream` of LIGGGHTS): a flat face — a disc of `radius`, or a rectangle
-/// of `size` — through which bodies stream at `rate` per second, leaving it along its `normal` at
-/// `speed`. Every `every` seconds the bodies of the next `rate × every` are placed, without
-/// overlap, in the layer the stream sweeps in that time: the face moved `speed × every` along
-/// its normal (a prism), in front of the face. The layer before has moved on by then, so layers
-/// follow each other as one stream.
-#[derive(Debug, Deserialize, Clone, Copy, PartialEq)]
+/// An inlet (`fix insert/stream` of LIGGGHTS): a flat face — a disc of `radius`, a rectangle of
+/// `size`, or the triangles of a mesh `file` — through which bodies stream at `rate` per second,
+/// leaving it along its `normal` at `speed`. Every `every` seconds the bodies of the next
+/// `rate × every` are placed, without overlap, in the layer the stream sweeps in that time: the
+/// face moved `speed × every` along its normal (a prism), in front of the face. The layer before
+/// has moved on by then, so layers follow each other as one stream.
+#[derive(Debug, Deserialize, Clone, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct InletSpec {
-    /// Centre of the face [m].
-    pub centre: Vec3,
-    /// The side bodies leave the face to (need not be of unit length).
-    pub normal: Vec3,
+    /// Centre of the face [m] (a face from a file: its centroid, set when it is read).
+    pub centre: Option<Vec3>,
+    /// The side bodies leave the face to (need not be of unit length; a face from a file: the
+    /// side its triangles face).
+    pub normal: Option<Vec3>,
     /// A disc face of this radius [m].
     pub radius: Option<f64>,
     /// A rectangular face: its side lengths [m], the first along `side`.
@@ -621,10 +622,47 @@ pub struct InletSpec {
     /// Direction of the rectangle's first side (its part in the face's plane); default: the
     /// coordinate axis least aligned with the normal, projected onto the face.
     pub side: Option<Vec3>,
+    /// A flat face read from a mesh file (STL or OBJ, relative to the scene's folder).
+    pub file: Option<String>,
+    /// Turn the file's triangles over: bodies leave to the other side.
+    #[serde(default)]
+    pub flip: bool,
     /// Speed of the bodies along the normal [m/s].
     pub speed: f64,
     /// Bodies per second.
     pub rate: f64,
+    /// The triangles of `file`, read when the scene is parsed.
+    #[serde(skip)]
+    pub face: Option<std::sync::Arc<InletFace>>,
+}
+
+/// A flat face read from a mesh file, in the scene's coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InletFace {
+    /// Wound counter-clockwise seen from the side bodies leave to.
+    pub triangles: Vec<[DVec3; 3]>,
+    /// The edges of one triangle only: the face's outline.
+    pub outline: Vec<[DVec3; 2]>,
+    pub area: f64,
+}
+
+impl InletFace {
+    /// Whether a disc of `radius` about `q` (in the face's plane, normal `n`) lies on the face:
+    /// `q` in a triangle and at least `radius` from the outline.
+    fn holds(&self, q: DVec3, radius: f64, n: DVec3) -> bool {
+        let inside = self.triangles.iter().any(|&[a, b, c]| {
+            [(a, b), (b, c), (c, a)]
+                .iter()
+                .all(|&(p, r)| (r - p).cross(q - p).dot(n) >= 0.0)
+        });
+        inside
+            && self.outline.iter().all(|&[a, b]| {
+                let ab = b - a;
+                let t =
+                    ((q - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                (a + ab * t - q).length() >= radius
+            })
+    }
 }
 
 /// The frame of a face: its unit normal and two unit directions in its plane.
@@ -645,19 +683,24 @@ fn face_frame(normal: Vec3, side: Option<Vec3>) -> (DVec3, DVec3, DVec3) {
 impl InletSpec {
     /// The face's unit normal and in-plane directions (first along `side`).
     pub fn frame(&self) -> (DVec3, DVec3, DVec3) {
-        face_frame(self.normal, self.side)
+        face_frame(self.normal.unwrap_or([0.0, 0.0, 1.0]), self.side)
+    }
+
+    fn centre_point(&self) -> DVec3 {
+        DVec3::from(self.centre.unwrap_or([0.0; 3]))
     }
 
     /// Area of the face [m²].
     pub fn area(&self) -> f64 {
-        match (self.radius, self.size) {
-            (Some(r), _) => std::f64::consts::PI * r * r,
-            (None, Some([a, b])) => a * b,
-            (None, None) => 0.0,
+        match (self.radius, self.size, &self.face) {
+            (Some(r), _, _) => std::f64::consts::PI * r * r,
+            (None, Some([a, b]), _) => a * b,
+            (None, None, Some(face)) => face.area,
+            (None, None, None) => 0.0,
         }
     }
 
-    /// Half extents of the face along its two in-plane directions.
+    /// Half extents of a disc or rectangle along its two in-plane directions.
     fn half_extents(&self) -> (f64, f64) {
         match (self.radius, self.size) {
             (Some(r), _) => (r, r),
@@ -670,26 +713,39 @@ impl InletSpec {
     /// the face.
     pub fn holds(&self, centre: DVec3, radius: f64, depth: f64) -> bool {
         let (n, u, v) = self.frame();
-        let d = centre - DVec3::from(self.centre);
+        let d = centre - self.centre_point();
         let along = d.dot(n);
         if along < radius || along > depth - radius {
             return false;
         }
-        match (self.radius, self.size) {
-            (Some(r), _) => (d - n * along).length() <= r - radius,
-            (None, Some([a, b])) => {
+        match (self.radius, self.size, &self.face) {
+            (Some(r), _, _) => (d - n * along).length() <= r - radius,
+            (None, Some([a, b]), _) => {
                 d.dot(u).abs() <= 0.5 * a - radius && d.dot(v).abs() <= 0.5 * b - radius
             }
-            (None, None) => false,
+            (None, None, Some(face)) => face.holds(centre - n * along, radius, n),
+            (None, None, None) => false,
         }
     }
 
-    /// Points inside the layer of thickness `depth`: its middle and the middles of the four
-    /// quarters of the face, half-way out.
+    /// Points inside the layer of thickness `depth`: its middle and points half-way out on the
+    /// face (a face from a file: the middles of its first triangles).
     pub fn probe_points(&self, depth: f64) -> Vec<Vec3> {
         let (n, u, v) = self.frame();
+        let lift = n * (0.5 * depth);
+        if let Some(face) = &self.face {
+            return std::iter::once(self.centre_point())
+                .chain(
+                    face.triangles
+                        .iter()
+                        .take(8)
+                        .map(|&[a, b, c]| (a + b + c) / 3.0),
+                )
+                .map(|p| (p + lift).to_array())
+                .collect();
+        }
         let (a, b) = self.half_extents();
-        let middle = DVec3::from(self.centre) + n * (0.5 * depth);
+        let middle = self.centre_point() + lift;
         [
             (0.0, 0.0),
             (0.5, 0.5),
@@ -705,19 +761,24 @@ impl InletSpec {
     /// The box around the layer of thickness `depth`.
     fn bounds(&self, depth: f64) -> (Vec3, Vec3) {
         let (n, u, v) = self.frame();
-        let (a, b) = self.half_extents();
-        let c = DVec3::from(self.centre);
+        let corners: Vec<DVec3> = match &self.face {
+            Some(face) => face.triangles.iter().flatten().copied().collect(),
+            None => {
+                // A disc's box: the square around it, a safe superset.
+                let (a, b) = self.half_extents();
+                let c = self.centre_point();
+                [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+                    .into_iter()
+                    .map(|(x, y)| c + u * (x * a) + v * (y * b))
+                    .collect()
+            }
+        };
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for (x, y, z) in [-1.0, 1.0]
-            .into_iter()
-            .flat_map(|x| [-1.0, 1.0].into_iter().map(move |y| (x, y)))
-            .flat_map(|(x, y)| [0.0, 1.0].into_iter().map(move |z| (x, y, z)))
-        {
-            // A disc's box: its rim reaches r·√(1 − n_k²) along axis k; the square around
-            // it is a safe superset.
-            let p = c + u * (x * a) + v * (y * b) + n * (z * depth);
-            lo = lo.min(p);
-            hi = hi.max(p);
+        for p in corners {
+            for q in [p, p + n * depth] {
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
         }
         (lo.to_array(), hi.to_array())
     }
@@ -726,7 +787,7 @@ impl InletSpec {
 impl InsertSpec {
     /// Thickness [m] of the layer an inlet fills at each insertion: `speed × every`.
     pub fn inlet_depth(&self) -> f64 {
-        match self.inlet {
+        match &self.inlet {
             Some(i) => i.speed * self.every.unwrap_or(0.0),
             None => 0.0,
         }
@@ -734,7 +795,7 @@ impl InsertSpec {
 
     /// The velocity bodies are inserted with: `velocity`, or an inlet's speed along its normal.
     pub fn initial_velocity(&self) -> Vec3 {
-        match self.inlet {
+        match &self.inlet {
             Some(i) => (i.frame().0 * i.speed).to_array(),
             None => self.velocity,
         }
@@ -744,7 +805,7 @@ impl InsertSpec {
     /// inlet: those of its rate due in that interval, so that the mean rate is exact); `None`
     /// for a volume fraction.
     pub fn count_at(&self, repetition: u64) -> Option<usize> {
-        match self.inlet {
+        match &self.inlet {
             Some(i) => {
                 let per = i.rate * self.every.unwrap_or(0.0);
                 let due = |k: u64| (per * k as f64 + 1e-9).floor();
@@ -757,7 +818,7 @@ impl InsertSpec {
     /// The box bodies are placed in: the one given, or the cylinder's bounding box. (Checked
     /// before use: one of the two is given, and the cylinder's axis is not zero.)
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        if let Some(inlet) = self.inlet {
+        if let Some(inlet) = &self.inlet {
             return inlet.bounds(self.inlet_depth());
         }
         match (self.region_min, self.region_max, self.cylinder) {
@@ -779,7 +840,7 @@ impl InsertSpec {
 
     /// Volume of the region [m³].
     pub fn volume(&self) -> f64 {
-        if let Some(inlet) = self.inlet {
+        if let Some(inlet) = &self.inlet {
             return inlet.area() * self.inlet_depth();
         }
         match self.cylinder {
@@ -794,7 +855,7 @@ impl InsertSpec {
     /// Whether a sphere of `radius` at `centre` lies wholly inside the region (a box region is
     /// handled by where centres are drawn).
     pub fn holds(&self, centre: Vec3, radius: f64) -> bool {
-        if let Some(inlet) = self.inlet {
+        if let Some(inlet) = &self.inlet {
             return inlet.holds(DVec3::from(centre), radius, self.inlet_depth());
         }
         let Some(c) = self.cylinder else {

@@ -160,7 +160,7 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
         }
     }
     c.vector(key("velocity"), i.velocity)?;
-    match (i.region_min, i.region_max, i.cylinder, i.inlet) {
+    match (i.region_min, i.region_max, i.cylinder, &i.inlet) {
         (Some(lo), Some(hi), None, None) => {
             c.vector(key("region_min"), lo)?;
             c.vector(key("region_max"), hi)?;
@@ -171,7 +171,7 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
                 ));
             }
         }
-        (None, None, None, Some(inlet)) => check_inlet(c, n, i, &inlet)?,
+        (None, None, None, Some(inlet)) => check_inlet(c, n, i, inlet)?,
         (None, None, Some(cyl), None) => {
             c.vector(key("cylinder.centre"), cyl.centre)?;
             c.vector(key("cylinder.axis"), cyl.axis)?;
@@ -404,27 +404,47 @@ const MIN_NORMAL_ACCEPTANCE: f64 = 1e-3;
 /// inlet sets it).
 fn check_inlet(c: &Checker, n: usize, i: &InsertSpec, inlet: &InletSpec) -> Result<(), SceneError> {
     let key = |k: &str| KeyPath::entry("insert", n).key(k);
-    c.vector(key("inlet.centre"), inlet.centre)?;
-    c.vector(key("inlet.normal"), inlet.normal)?;
-    if inlet.normal.iter().all(|&x| x == 0.0) {
+    // A face from a file was read (and its centre and normal set) when the scene was parsed.
+    let (Some(centre), Some(normal)) = (inlet.centre, inlet.normal) else {
+        let k = if inlet.centre.is_none() {
+            "inlet.centre"
+        } else {
+            "inlet.normal"
+        };
+        return Err(c.scene.error(
+            key(k),
+            "an inlet's face needs its `centre` and `normal` (or a mesh `file`, which gives them)",
+        ));
+    };
+    c.vector(key("inlet.centre"), centre)?;
+    c.vector(key("inlet.normal"), normal)?;
+    if normal.iter().all(|&x| x == 0.0) {
         return Err(c.scene.error(
             key("inlet.normal"),
             "the normal must not be zero: it is the direction bodies leave the face in",
         ));
     }
-    match (inlet.radius, inlet.size) {
-        (Some(r), None) => c.positive(key("inlet.radius"), r, "m")?,
-        (None, Some([a, b])) => {
+    match (inlet.radius, inlet.size, &inlet.file) {
+        (Some(r), None, None) => c.positive(key("inlet.radius"), r, "m")?,
+        (None, Some([a, b]), None) => {
             c.positive(key("inlet.size"), a, "m")?;
             c.positive(key("inlet.size"), b, "m")?;
         }
+        (None, None, Some(_)) => {}
         _ => {
             return Err(c.scene.error(
                 key("inlet.radius"),
-                "give the face as `radius` (a disc) or `size = [a, b]` (a rectangle, side a \
-                 along `side`), one of the two",
+                "give the face as `radius` (a disc), `size = [a, b]` (a rectangle, side a \
+                 along `side`) or `file` (a flat mesh), one of the three",
             ))
         }
+    }
+    if inlet.flip && inlet.file.is_none() {
+        return Err(c.scene.error(
+            key("inlet.flip"),
+            "`flip` turns the triangles of a face from a `file`; a disc or rectangle leaves to \
+             its `normal`",
+        ));
     }
     if let Some(side) = inlet.side {
         c.vector(key("inlet.side"), side)?;
@@ -435,7 +455,7 @@ fn check_inlet(c: &Checker, n: usize, i: &InsertSpec, inlet: &InletSpec) -> Resu
             ));
         }
         let (nn, s) = (
-            crate::math::DVec3::from(inlet.normal).normalize(),
+            crate::math::DVec3::from(normal).normalize(),
             crate::math::DVec3::from(side),
         );
         if (s - nn * nn.dot(s)).length() <= 1e-9 * s.length() {
@@ -488,7 +508,7 @@ fn check_insertion_size(
         None => ("sphere of radius".into(), "spheres of radius".into()),
     };
     let (lo, hi) = i.bounds();
-    if let Some(inlet) = i.inlet {
+    if let Some(inlet) = &i.inlet {
         let depth = i.inlet_depth();
         if depth < 2.0 * r_max {
             return Err(c.scene.error(
@@ -501,17 +521,18 @@ fn check_insertion_size(
             ));
         }
     }
-    let extent: Vec<f64> = match (i.cylinder, i.inlet) {
+    let extent: Vec<f64> = match (i.cylinder, &i.inlet) {
         (Some(cyl), _) => vec![2.0 * cyl.radius, cyl.length],
         (_, Some(inlet)) => match (inlet.radius, inlet.size) {
             (Some(r), _) => vec![2.0 * r],
             (None, Some([a, b])) => vec![a, b],
+            // A face from a file: narrow or not, bodies that do not fit are reported.
             (None, None) => Vec::new(),
         },
         _ => (0..3).map(|a| hi[a] - lo[a]).collect(),
     };
     if extent.iter().any(|&e| e < 2.0 * r_max) {
-        let narrow = match i.inlet {
+        let narrow = match &i.inlet {
             Some(inlet) if inlet.radius.is_some() => "inlet.radius",
             Some(_) => "inlet.size",
             None => "region_max",
@@ -528,6 +549,7 @@ fn check_insertion_size(
     let smallest = 4.0 / 3.0 * std::f64::consts::PI * r_min.powi(3);
     let inlet_count = i
         .inlet
+        .as_ref()
         .map(|inlet| (inlet.rate * i.every.unwrap_or(0.0)).ceil() as usize);
     let (count_key, most) = match (inlet_count.or(i.count), i.volume_fraction) {
         (Some(count), _) => {

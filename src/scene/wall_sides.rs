@@ -39,7 +39,7 @@ impl Scene {
             let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
             // The centre and the middles of the region's four upright quarters; for an inlet,
             // points of the layer it fills (its box may reach beyond it).
-            let points: Vec<DVec3> = match i.inlet {
+            let points: Vec<DVec3> = match &i.inlet {
                 Some(inlet) => inlet
                     .probe_points(i.inlet_depth())
                     .into_iter()
