@@ -197,7 +197,7 @@ pub fn run_with(
     let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output, names)?;
     output.write(&prepared.world)?;
     let templates = templates(prepared);
-    let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let fingerprint = fingerprint(prepared, &templates);
     let watch = EnergyWatch::new(&prepared.world);
     let sides = WallSides::new(&prepared.world);
     let mut session = Session {
@@ -462,6 +462,31 @@ pub fn templates(prepared: &Prepared) -> Vec<Shape> {
         .iter()
         .filter_map(|s| s.shape.as_ref().map(|b| b.shape.clone()));
     placed.chain(inserted).collect()
+}
+
+/// What a checkpoint holds of the files a scene reads, to refuse a resumed run whose files have
+/// changed: its shapes and walls (`checkpoint::fingerprint`), and the faces of inlets read from
+/// mesh files (they place the bodies still to come).
+fn fingerprint(prepared: &Prepared, templates: &[Shape]) -> u64 {
+    let base = checkpoint::fingerprint(&prepared.world, templates);
+    let corners: Vec<f64> = prepared
+        .schedule
+        .iter()
+        .filter_map(|s| s.spec.inlet.as_ref()?.face.as_ref())
+        .flat_map(|f| f.triangles.iter().flatten().flat_map(|v| v.to_array()))
+        .collect();
+    if corners.is_empty() {
+        return base; // as before inlet faces existed
+    }
+    // FNV-1a over the base and the corners' bits.
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for byte in std::iter::once(base)
+        .chain(corners.iter().map(|x| x.to_bits()))
+        .flat_map(u64::to_le_bytes)
+    {
+        h = (h ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
 }
 
 /// Number of steps a prepared scene will take.

@@ -662,3 +662,60 @@ fn a_new_run_in_a_used_folder_leaves_nothing_of_the_old_one() {
     assert_eq!(kept.len(), 1, "{kept:?}");
     assert_eq!(kept[0].0, p.world.steps_done());
 }
+
+/// Issue #14: the face of an inlet read from a mesh file places the bodies still to come, so a
+/// resumed run whose face file has changed is refused, like one whose wall file has.
+#[test]
+fn a_changed_inlet_face_file_is_refused_on_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = |z: f64| {
+        let mut s = String::from("solid face\n");
+        for t in [
+            [[0.0, 0.0, z], [0.02, 0.0, z], [0.02, 0.02, z]],
+            [[0.0, 0.0, z], [0.02, 0.02, z], [0.0, 0.02, z]],
+        ] {
+            s.push_str("facet normal 0 0 0\n outer loop\n");
+            for v in t {
+                s.push_str(&format!("  vertex {} {} {}\n", v[0], v[1], v[2]));
+            }
+            s.push_str(" endloop\nendfacet\n");
+        }
+        s + "endsolid face\n"
+    };
+    std::fs::write(dir.path().join("face.stl"), square(0.1)).unwrap();
+    let text = r#"
+[simulation]
+duration = 0.02
+output_interval = 0.01
+gravity = [0.0, 0.0, 0.0]
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+[[insert]]
+method = "random"
+material = "glass"
+radius = 0.001
+every = 0.01
+inlet = { file = "face.stl", flip = true, speed = 0.5, rate = 500.0 }
+"#;
+    let out = dir.path().join("run");
+    run_scene(dir.path(), text, &out, None);
+    let options = ResumeOptions {
+        duration: Some(0.04),
+        ..ResumeOptions::default()
+    };
+    std::fs::write(dir.path().join("face.stl"), square(0.12)).unwrap();
+    let message = resume(&out, &options).err().expect("refused").to_string();
+    assert!(
+        message.contains("builds other shapes or walls"),
+        "{message}"
+    );
+    // Put back, it resumes.
+    std::fs::write(dir.path().join("face.stl"), square(0.1)).unwrap();
+    let (resumed, _) = resume(&out, &options).unwrap();
+    assert_eq!(resumed.world.bodies().len(), 25);
+}

@@ -54,7 +54,7 @@ pub fn resume(
     }
     let mut prepared = scene.build().map_err(|e| RunError::Resume(e.to_string()))?;
     let templates = templates(&prepared);
-    let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let fingerprint = super::fingerprint(&prepared, &templates);
     if fingerprint != saved.fingerprint {
         return Err(RunError::Resume(format!(
             "'{}' builds other shapes or walls than the run in '{}' was started with: a mesh or \
