@@ -87,6 +87,16 @@ fn a_region_is_a_box_or_a_cylinder_not_both_nor_neither() {
 /// A scene with an inlet and no gravity (bodies keep the inlet's velocity), run to its end;
 /// returns the world at the end and every insertion's (time, bodies placed, shortfall).
 fn stream(extra: &str, inlet: &str) -> (polydem::scene::Prepared, Vec<(f64, usize, bool)>) {
+    stream_by("random", extra, inlet)
+}
+
+/// [`stream`], placing the bodies by `method`.
+fn stream_by(
+    method: &str,
+    extra: &str,
+    inlet: &str,
+) -> (polydem::scene::Prepared, Vec<(f64, usize, bool)>) {
+    let method = format!("method = \"{method}\"");
     let text = format!(
         r#"
 [simulation]
@@ -102,11 +112,11 @@ restitution = 0.5
 friction = 0.3
 {extra}
 [[insert]]
-method = "random"
 material = "glass"
 radius = 0.001
 seed = 7
 every = 0.01
+{method}
 {inlet}
 "#
     );
@@ -178,6 +188,30 @@ fn bodies_stream_in_through_a_disc_inlet_at_its_rate_and_speed() {
         .map(|i| face.z - b.position[i].z)
         .fold(0.0, f64::max);
     assert!(farthest <= 0.05 * 0.5 + 0.004 + 1e-9, "{farthest}");
+}
+
+/// Placed on a lattice, the bodies of a layer sit on the layer's bounds (touching them): they
+/// are placed all the same, and the stream is as with random placement.
+#[test]
+fn an_inlet_places_a_lattice_layer_too() {
+    let (prepared, reports) = stream_by(
+        "lattice",
+        "",
+        "inlet = { centre = [0.0, 0.0, 0.1], normal = [0.0, 0.0, -1.0], radius = 0.01, speed = 0.3, rate = 2000.0 }",
+    );
+    assert!(
+        reports.iter().all(|r| (r.1, r.2) == (20, false)),
+        "{reports:?}"
+    );
+    let b = prepared.world.bodies();
+    assert!(no_two_overlap(b), "bodies overlap");
+    for i in 0..b.len() {
+        let d = b.position[i] - DVec3::new(0.0, 0.0, 0.1);
+        assert!(
+            -d.z >= 0.001 - 1e-12 && d.truncate().length() <= 0.009 + 1e-12,
+            "{d}"
+        );
+    }
 }
 
 /// A tilted rectangle, with a rate that is not a whole number of bodies per layer: the layers

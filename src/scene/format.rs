@@ -715,6 +715,8 @@ impl InletSpec {
         let (n, u, v) = self.frame();
         let d = centre - self.centre_point();
         let along = d.dot(n);
+        // A body may touch the layer's bounds to within rounding (lattice sites lie on them).
+        let radius = radius * (1.0 - 1e-9);
         if along < radius || along > depth - radius {
             return false;
         }
