@@ -142,7 +142,8 @@ pub struct Control {
     /// The scene the run comes from, stored in its checkpoints; `None`: no checkpoints.
     pub scene: Option<SceneRecord>,
     /// When set (by a signal handler, say), the run stops after the chunk of steps under way,
-    /// writes a checkpoint and returns [`RunError::Interrupted`].
+    /// writes a checkpoint, then a final frame and CSV rows marked as the interrupt's (which
+    /// `resume` takes back), and returns [`RunError::Interrupted`].
     pub stop: Option<Arc<AtomicBool>>,
 }
 
@@ -166,7 +167,9 @@ struct Session<'a> {
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
 /// output interval, and doing scheduled insertions at their times. Stops with
-/// [`RunError::BlowUp`] as soon as the state is no longer finite (checked after every chunk).
+/// [`RunError::BlowUp`] as soon as the state is no longer finite or the watchdog finds energy
+/// growing or a body too fast (checked after every chunk) or a body behind a closed mesh wall
+/// (at every output), after writing the state then as a last frame marked as the blow-up.
 /// Chunks of steps are short enough for a lively progress display and long enough to keep the
 /// per-chunk overhead negligible. Writes no checkpoints: see [`run_with`].
 pub fn run(
