@@ -24,7 +24,7 @@ mod watchdog;
 pub use resume::{resume, ResumeOptions};
 pub use stepwise::SteppedRun;
 pub use trial::{bodies_to_come, Trial};
-pub use watchdog::{too_fast, EnergyWatch, ALLOWED_DRIFT};
+pub use watchdog::{too_fast, EnergyWatch, WallSides, ALLOWED_DRIFT};
 
 /// Why a run stopped before its end.
 #[derive(Debug)]
@@ -36,10 +36,12 @@ pub enum RunError {
     /// Writing or reading a checkpoint failed.
     Checkpoint(CheckpointError),
     /// The run was asked to stop ([`Control::stop`]) and did, at `time`, after writing
-    /// `checkpoint` (if it writes checkpoints).
+    /// `checkpoint` (if it writes checkpoints) and a last frame `frame` (the particles file of
+    /// it; `None` when the step was an output time anyway and its frame is a regular one).
     Interrupted {
         time: f64,
         checkpoint: Option<PathBuf>,
+        frame: Option<PathBuf>,
     },
     /// A checkpoint cannot be resumed with this scene: why.
     Resume(String),
@@ -51,8 +53,20 @@ impl fmt::Display for RunError {
             RunError::Output(e) => write!(f, "{e}"),
             RunError::BlowUp(why) | RunError::Resume(why) => f.write_str(why),
             RunError::Checkpoint(e) => write!(f, "{e}"),
-            RunError::Interrupted { time, checkpoint } => {
+            RunError::Interrupted {
+                time,
+                checkpoint,
+                frame,
+            } => {
                 write!(f, "interrupted at t = {time:.6e} s")?;
+                if let Some(frame) = frame {
+                    write!(
+                        f,
+                        "; the state now is the last frame of the series, '{}' (marked \
+                         `polydem_state` = \"interrupted\"; `polydem resume` removes it)",
+                        frame.display()
+                    )?;
+                }
                 match checkpoint {
                     Some(path) => write!(
                         f,
@@ -130,7 +144,8 @@ pub struct Control {
     /// The scene the run comes from, stored in its checkpoints; `None`: no checkpoints.
     pub scene: Option<SceneRecord>,
     /// When set (by a signal handler, say), the run stops after the chunk of steps under way,
-    /// writes a checkpoint and returns [`RunError::Interrupted`].
+    /// writes a checkpoint, then a final frame and CSV rows marked as the interrupt's (which
+    /// `resume` takes back), and returns [`RunError::Interrupted`].
     pub stop: Option<Arc<AtomicBool>>,
 }
 
@@ -146,11 +161,17 @@ struct Session<'a> {
     watch: EnergyWatch,
     /// Whether a warning of the watchdog was given (`watchdog = "warn"`).
     warned: bool,
+    /// The closed mesh walls, to find bodies that went through them.
+    sides: WallSides,
+    /// Whether a warning of a body behind a wall was given (`watchdog = "warn"`).
+    warned_sides: bool,
 }
 
 /// Steps `prepared.world` to `prepared.duration`, writing a frame at the start and after every
 /// output interval, and doing scheduled insertions at their times. Stops with
-/// [`RunError::BlowUp`] as soon as the state is no longer finite (checked after every chunk).
+/// [`RunError::BlowUp`] as soon as the state is no longer finite or the watchdog finds energy
+/// growing or a body too fast (checked after every chunk) or a body behind a closed mesh wall
+/// (at every output), after writing the state then as a last frame marked as the blow-up.
 /// Chunks of steps are short enough for a lively progress display and long enough to keep the
 /// per-chunk overhead negligible. Writes no checkpoints: see [`run_with`].
 pub fn run(
@@ -195,8 +216,9 @@ fn start<'a>(
     let mut output = RunOutput::create(out_dir, &prepared.world, &prepared.output, names)?;
     output.write(&prepared.world)?;
     let templates = templates(prepared);
-    let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let fingerprint = fingerprint(prepared, &templates);
     let watch = EnergyWatch::new(&prepared.world);
+    let sides = WallSides::new(&prepared.world);
     Ok(Session {
         prepared,
         output,
@@ -205,6 +227,8 @@ fn start<'a>(
         fingerprint,
         watch,
         warned: false,
+        sides,
+        warned_sides: false,
     })
 }
 
@@ -264,7 +288,7 @@ impl Session<'_> {
                 let chunk = (until - self.prepared.world.steps_done()).min(200);
                 self.prepared.world.run_steps(chunk);
                 if let Some(why) = blow_up(&self.prepared.world) {
-                    return Err(RunError::BlowUp(why));
+                    return Err(self.blown_up(why));
                 }
                 let w = &self.prepared.world;
                 let suspect = self
@@ -273,7 +297,7 @@ impl Session<'_> {
                     .or_else(|| too_fast(w, self.prepared.speed_limit));
                 if let Some(why) = suspect {
                     if self.prepared.watchdog == WatchdogMode::Stop {
-                        return Err(RunError::BlowUp(why));
+                        return Err(self.blown_up(why));
                     }
                     // An expert asked to go on: say it once.
                     if !self.warned {
@@ -296,19 +320,48 @@ impl Session<'_> {
                     observe(RunEvent::Inserted(&report));
                 }
             }
-            if done == next_frame || done == total_steps {
+            let frame_now = done == next_frame || done == total_steps;
+            let rows_now = done == next_row || done == total_steps;
+            // Bodies behind closed walls, once per output (a ray cast per body and wall).
+            if frame_now || rows_now {
+                self.check_wall_sides(&mut observe)?;
+            }
+            if frame_now {
                 self.output.write_frame(&self.prepared.world)?;
                 next_frame = frame_step(first_after(done, frame_step));
             }
-            if done == next_row || done == total_steps {
+            if rows_now {
                 self.output.write_rows(&self.prepared.world)?;
                 next_row = row_step(first_after(done, row_step));
             }
             if stopped {
+                // The checkpoint first, so that it records the series without the frame off the
+                // output times that follows; a resumed run drops that frame (`rewind`).
                 let checkpoint = self.checkpoint(&mut observe)?;
+                let frame = if frame_now && rows_now {
+                    None
+                } else {
+                    let w = &self.prepared.world;
+                    let state = format!(
+                        "interrupted at t = {:.6e} s (step {}): the state at which the run was \
+                         stopped by a signal, off the output times; `polydem resume` removes \
+                         this frame and continues the series",
+                        w.time(),
+                        w.steps_done()
+                    );
+                    let path = self.output.write_marked(
+                        w,
+                        &state,
+                        "interrupted: the state at which a signal stopped the run (removed by polydem resume)",
+                        !frame_now,
+                        !rows_now,
+                    )?;
+                    (!frame_now).then_some(path)
+                };
                 return Err(RunError::Interrupted {
                     time: self.prepared.world.time(),
                     checkpoint,
+                    frame,
                 });
             }
             if done == next_checkpoint && done < total_steps {
@@ -322,6 +375,51 @@ impl Session<'_> {
         }
         self.checkpoint(&mut observe)?;
         Ok(())
+    }
+
+    /// Stops the run (`watchdog = "stop"`) or warns once (`"warn"`) when a body's centre lies
+    /// behind a closed mesh wall.
+    fn check_wall_sides(&mut self, observe: &mut impl FnMut(RunEvent)) -> Result<(), RunError> {
+        if self.sides.is_empty() {
+            return Ok(());
+        }
+        let Some(why) = self
+            .sides
+            .check(&self.prepared.world, &self.prepared.output.wall_names)
+        else {
+            return Ok(());
+        };
+        if self.prepared.watchdog == WatchdogMode::Stop {
+            return Err(self.blown_up(why));
+        }
+        if !self.warned_sides {
+            self.warned_sides = true;
+            observe(RunEvent::Note(format!(
+                "{why} (`watchdog = \"warn\"`: the run goes on; said once)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The error of a run the watchdog stops: `why`, after writing the state now as the last
+    /// frame of every series and the last rows of the CSV files, marked as the blow-up (values
+    /// that are no longer finite are written as they are: `NaN`, `inf`).
+    fn blown_up(&mut self, why: String) -> RunError {
+        let w = &self.prepared.world;
+        let state = format!("blow-up: {why}");
+        let note = "blow-up: the state at which the watchdog stopped the run";
+        match self.output.write_marked(w, &state, note, true, true) {
+            Ok(frame) => RunError::BlowUp(format!(
+                "{why}\nThe state at the blow-up is the last frame of the series, '{}' (t = \
+                 {:.6e} s; its field data `polydem_state` begins with \"blow-up\"), and the last \
+                 row of energy.csv; non-finite values are written as NaN or inf.",
+                frame.display(),
+                w.time()
+            )),
+            Err(e) => RunError::BlowUp(format!(
+                "{why}\n(The state at the blow-up could not be written: {e}.)"
+            )),
+        }
     }
 
     /// Writes a checkpoint of the run as it is now, if the run writes checkpoints.
@@ -393,6 +491,31 @@ pub fn templates(prepared: &Prepared) -> Vec<Shape> {
         .iter()
         .filter_map(|s| s.shape.as_ref().map(|b| b.shape.clone()));
     placed.chain(inserted).collect()
+}
+
+/// What a checkpoint holds of the files a scene reads, to refuse a resumed run whose files have
+/// changed: its shapes and walls (`checkpoint::fingerprint`), and the faces of inlets read from
+/// mesh files (they place the bodies still to come).
+fn fingerprint(prepared: &Prepared, templates: &[Shape]) -> u64 {
+    let base = checkpoint::fingerprint(&prepared.world, templates);
+    let corners: Vec<f64> = prepared
+        .schedule
+        .iter()
+        .filter_map(|s| s.spec.inlet.as_ref()?.face.as_ref())
+        .flat_map(|f| f.triangles.iter().flatten().flat_map(|v| v.to_array()))
+        .collect();
+    if corners.is_empty() {
+        return base; // as before inlet faces existed
+    }
+    // FNV-1a over the base and the corners' bits.
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for byte in std::iter::once(base)
+        .chain(corners.iter().map(|x| x.to_bits()))
+        .flat_map(u64::to_le_bytes)
+    {
+        h = (h ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
 }
 
 /// Number of steps a prepared scene will take.

@@ -574,12 +574,14 @@ fn a_run_that_blows_up_stops_and_says_why() {
             "'{expected}' missing from:\n{stderr}"
         );
     }
-    let frames = std::fs::read_dir(&out)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().ends_with(".vtp"))
-        .count();
-    assert!(frames >= 1, "the first frame is gone");
+    // The last frame holds the state at the blow-up, the non-finite velocity as it is; the
+    // CSV series read back, their last row with the overflowed kinetic energy.
+    let last = assert_last_frame_is_the_blow_up(&out, &stderr);
+    let velocity = last.point_array("velocity").unwrap();
+    assert!(!velocity.values[0].is_finite() || !velocity.values[0].powi(2).is_finite());
+    let energy = polydem::io::csv_read::read_table(&out.join("energy.csv")).unwrap();
+    let kinetic = energy.column("kinetic_translational").unwrap();
+    assert!(!kinetic.last().unwrap().is_finite(), "{kinetic:?}");
 }
 
 /// Issue #12: a duration shorter than half a step ran a whole step; one of more steps than any run
@@ -893,4 +895,159 @@ fn the_watchdog_can_be_told_to_warn() {
     let stderr = text(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert_eq!(stderr.matches("watchdog = \"warn\"").count(), 1, "{stderr}");
+}
+
+/// A bead in a closed mesh box, no gravity, thrown at a wall with a forced time step so long
+/// that it jumps through the wall between two steps: it never touches it, so its energy and
+/// speed stay what they were, and only the check for bodies behind closed walls sees it.
+const THROUGH_THE_WALL: &str = r#"[simulation]
+duration = 0.02
+output_interval = 0.004
+time_step = 2.0e-3
+force_time_step = true
+gravity = [0.0, 0.0, 0.0]
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e9
+poisson_ratio = 0.25
+restitution = 0.8
+friction = 0.3
+
+[[mesh_wall]]
+name = "box"
+material = "glass"
+generator = { type = "box", min = [-0.05, -0.05, -0.05], max = [0.05, 0.05, 0.05], facing = "inward" }
+
+[[particle]]
+radius = 0.005
+material = "glass"
+position = [0.0, 0.0, 0.0]
+velocity = [20.0, 0.0, 0.0]
+"#;
+
+/// Runs `scene` in a fresh folder; returns the output, the folder (kept alive) and the output
+/// folder.
+fn run_in_folder(scene: &str) -> (Output, tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, out) = (dir.path().join(SCENE), dir.path().join("out"));
+    std::fs::write(&file, scene).unwrap();
+    let output = polydem(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    (output, dir, out)
+}
+
+/// The frames of the particles series, read back, with their times and states.
+fn particle_frames(out: &Path) -> Vec<polydem::io::vtk_read::PolyData> {
+    let pvd = polydem::io::vtk_read::read_pvd(&out.join("particles.pvd")).unwrap();
+    pvd.iter()
+        .map(|e| polydem::io::vtk_read::read_vtp(&e.file).unwrap())
+        .collect()
+}
+
+/// Every series of a run stopped by the watchdog ends with one frame marked as the state at the
+/// blow-up, at the time of the last CSV row; the frames before it are regular (unmarked) and
+/// every file reads back.
+fn assert_last_frame_is_the_blow_up(out: &Path, stderr: &str) -> polydem::io::vtk_read::PolyData {
+    let frames = particle_frames(out);
+    let (last, before) = frames.split_last().expect("frames");
+    assert!(!before.is_empty(), "the first frame is gone");
+    assert!(
+        before.iter().all(|f| f.state.is_none()),
+        "a regular frame marked"
+    );
+    let state = last.state.as_deref().expect("the last frame is marked");
+    assert!(
+        state.starts_with("blow-up: the run blew up at t = "),
+        "{state}"
+    );
+    let walls = polydem::io::vtk_read::read_pvd(&out.join("walls.pvd")).unwrap();
+    let last_walls = polydem::io::vtk_read::read_vtp(&walls.last().unwrap().file).unwrap();
+    assert_eq!(last_walls.state.as_deref(), Some(state));
+    assert_eq!(walls.len(), frames.len());
+    let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
+    assert!(pvd.contains("<!-- blow-up: "), "{pvd}");
+    // The terminal names the file.
+    let name = format!("particles_{:06}.vtp", frames.len() - 1);
+    assert!(stderr.contains(&name), "'{name}' missing from:\n{stderr}");
+    let energy = polydem::io::csv_read::read_table(&out.join("energy.csv")).unwrap();
+    let times = energy.column("time").unwrap();
+    assert_eq!(
+        times.last().copied(),
+        last.time,
+        "the last row is at the blow-up"
+    );
+    last.clone()
+}
+
+/// Issue #12: a body found behind a closed mesh wall stops the run, naming the wall, the body,
+/// where and when, with the likely causes; the last frame is the state at the blow-up.
+#[test]
+fn a_body_that_went_through_a_closed_wall_stops_the_run() {
+    let (output, _dir, out) = run_in_folder(THROUGH_THE_WALL);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for expected in [
+        "blew up",
+        "body 0",
+        "behind [[mesh_wall]] #1 (\"box\"",
+        "outside the closed container",
+        "gone through the wall",
+        "time step above the stable one",
+        "t = 4.000000e-3 s",
+        SCENE,
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "'{expected}' missing from:\n{stderr}"
+        );
+    }
+    let last = assert_last_frame_is_the_blow_up(&out, &stderr);
+    // The bead is where the message says: behind the wall at x = 0.05.
+    assert!(last.points[0].x > 0.05, "{:?}", last.points);
+
+    // Told to warn, the run goes on to its end, saying it once.
+    let (output, _dir, _) = run_in_folder(&THROUGH_THE_WALL.replace(
+        "force_time_step = true\n",
+        "force_time_step = true\nwatchdog = \"warn\"\n",
+    ));
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert_eq!(
+        stderr.matches("behind [[mesh_wall]]").count(),
+        1,
+        "{stderr}"
+    );
+}
+
+/// A bead bouncing in a closed box, as a sound run: the check for bodies behind walls stays
+/// silent.
+#[test]
+fn a_bead_bouncing_in_a_closed_box_runs_to_its_end() {
+    let scene = THROUGH_THE_WALL
+        .replace("time_step = 2.0e-3\nforce_time_step = true\n", "")
+        .replace("duration = 0.02", "duration = 0.01")
+        .replace("output_interval = 0.004", "output_interval = 0.0005")
+        .replace("gravity = [0.0, 0.0, 0.0]", "gravity = [0.0, 0.0, -9.81]")
+        .replace(
+            "position = [0.0, 0.0, 0.0]",
+            "position = [0.04, 0.0, -0.04]",
+        )
+        .replace("velocity = [20.0, 0.0, 0.0]", "velocity = [2.0, 0.0, -2.0]");
+    let (output, _dir, out) = run_in_folder(&scene);
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("behind"), "{stderr}");
+    let frames = particle_frames(&out);
+    assert_eq!(frames.len(), 21);
+    assert!(frames.iter().all(|f| f.state.is_none()));
+    // It did hit the walls (and came back).
+    let x = frames.last().unwrap().points[0].x;
+    assert!(x.abs() < 0.045, "{x}");
 }

@@ -195,6 +195,17 @@ fn assert_same_files(a: &Path, b: &Path) {
         compared += 1;
     }
     assert!(compared > 5, "only {compared} files compared");
+    let files = |dir: &Path| {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap())
+            .filter(|e| e.file_type().unwrap().is_file())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(files(a), files(b), "the runs wrote other files");
 }
 
 /// Runs `text` whole, and again with checkpoints every third of its duration; removes the last
@@ -380,6 +391,84 @@ fn a_folder_without_checkpoints_is_named() {
     assert!(message.contains("no checkpoint"), "{message}");
 }
 
+/// Issue #12, point 4: a run asked to stop (as Ctrl-C does) at a step off the output times writes
+/// a checkpoint, then a final frame of every series and a row of every CSV file at that step,
+/// marked as the interrupt's; `resume` removes them and continues the series as if the run had
+/// never stopped, file for file.
+#[test]
+fn an_interrupt_writes_a_final_frame_that_resume_takes_back() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let dir = tempfile::tempdir().unwrap();
+    let whole_dir = dir.path().join("whole");
+    run_scene(dir.path(), SPHERES, &whole_dir, None);
+
+    let (scene, _) = scene(dir.path(), "scene.toml", SPHERES);
+    let record = checkpoint::SceneRecord::new(scene.file.clone(), scene.source.clone());
+    let mut prepared = scene.build().unwrap();
+    let dt = prepared.world.time_step();
+    // Between the third and the fourth frame, off the output times.
+    let stop_after = (0.05 / dt) as u64;
+    let out = dir.path().join("stopped");
+    let stop = Arc::new(AtomicBool::new(false));
+    let control = Control {
+        scene: Some(record),
+        stop: Some(Arc::clone(&stop)),
+    };
+    let err = run::run_with(&mut prepared, &out, control, |e| {
+        if let RunEvent::Progress(w) = e {
+            if w.steps_done() > stop_after {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    })
+    .err()
+    .expect("stopped");
+    let RunError::Interrupted {
+        time,
+        checkpoint: Some(_),
+        frame: Some(frame),
+    } = &err
+    else {
+        panic!("{err}");
+    };
+    assert!(time % 0.02 > 1e-6, "stopped at an output time: {time}");
+    let message = err.to_string();
+    assert!(
+        message.contains(&frame.display().to_string()) && message.contains("polydem resume"),
+        "{message}"
+    );
+    // The final frame: the last of every series, marked; the frames before are not.
+    use polydem::io::vtk_read::{read_pvd, read_vtp};
+    for series in ["particles", "walls"] {
+        let entries = read_pvd(&out.join(format!("{series}.pvd"))).unwrap();
+        let (last, before) = entries.split_last().unwrap();
+        assert_eq!(last.time, *time);
+        let state = read_vtp(&last.file).unwrap().state.expect("marked");
+        assert!(state.starts_with("interrupted at t = "), "{state}");
+        assert!(before
+            .iter()
+            .all(|e| read_vtp(&e.file).unwrap().state.is_none()));
+    }
+    assert_eq!(
+        read_pvd(&out.join("particles.pvd"))
+            .unwrap()
+            .last()
+            .unwrap()
+            .file,
+        *frame
+    );
+    for csv in ["energy.csv", "wall_forces.csv", "flow.csv"] {
+        let table = polydem::io::csv_read::read_table(&out.join(csv)).unwrap();
+        assert_eq!(table.column("time").unwrap().last(), Some(time), "{csv}");
+    }
+
+    let (resumed, notes) = resume(&out, &ResumeOptions::default()).unwrap();
+    assert!(notes.is_empty(), "{notes:?}");
+    assert_eq!(resumed.duration, prepared.duration);
+    assert_same_files(&whole_dir, &out);
+}
+
 /// `polydem run` stopped by SIGINT writes a checkpoint and exits with 130; `polydem resume`
 /// finishes the run with the files of a run that was never stopped.
 #[cfg(unix)]
@@ -432,6 +521,18 @@ fn a_run_stopped_by_a_signal_resumes_bit_for_bit() {
     let stderr = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("polydem resume"), "{stderr}");
+    // The series ends at the step where the run stopped: a final frame (marked, unless that step
+    // was an output time), and the CSV rows.
+    let entries = polydem::io::vtk_read::read_pvd(&out.join("particles.pvd")).unwrap();
+    let last = entries.last().unwrap();
+    let energy = polydem::io::csv_read::read_table(&out.join("energy.csv")).unwrap();
+    assert_eq!(energy.column("time").unwrap().last(), Some(&last.time));
+    let state = polydem::io::vtk_read::read_vtp(&last.file).unwrap().state;
+    if let Some(state) = &state {
+        assert!(state.starts_with("interrupted"), "{state}");
+        let name = last.file.file_name().unwrap().to_string_lossy();
+        assert!(stderr.contains(&*name), "{stderr}");
+    }
     let kept = checkpoint::checkpoints_in(&out);
     assert_eq!(kept.len(), 1, "{kept:?}");
     assert!(
@@ -560,4 +661,61 @@ fn a_new_run_in_a_used_folder_leaves_nothing_of_the_old_one() {
     let kept = checkpoint::checkpoints_in(&out);
     assert_eq!(kept.len(), 1, "{kept:?}");
     assert_eq!(kept[0].0, p.world.steps_done());
+}
+
+/// Issue #14: the face of an inlet read from a mesh file places the bodies still to come, so a
+/// resumed run whose face file has changed is refused, like one whose wall file has.
+#[test]
+fn a_changed_inlet_face_file_is_refused_on_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = |z: f64| {
+        let mut s = String::from("solid face\n");
+        for t in [
+            [[0.0, 0.0, z], [0.02, 0.0, z], [0.02, 0.02, z]],
+            [[0.0, 0.0, z], [0.02, 0.02, z], [0.0, 0.02, z]],
+        ] {
+            s.push_str("facet normal 0 0 0\n outer loop\n");
+            for v in t {
+                s.push_str(&format!("  vertex {} {} {}\n", v[0], v[1], v[2]));
+            }
+            s.push_str(" endloop\nendfacet\n");
+        }
+        s + "endsolid face\n"
+    };
+    std::fs::write(dir.path().join("face.stl"), square(0.1)).unwrap();
+    let text = r#"
+[simulation]
+duration = 0.02
+output_interval = 0.01
+gravity = [0.0, 0.0, 0.0]
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+[[insert]]
+method = "random"
+material = "glass"
+radius = 0.001
+every = 0.01
+inlet = { file = "face.stl", flip = true, speed = 0.5, rate = 500.0 }
+"#;
+    let out = dir.path().join("run");
+    run_scene(dir.path(), text, &out, None);
+    let options = ResumeOptions {
+        duration: Some(0.04),
+        ..ResumeOptions::default()
+    };
+    std::fs::write(dir.path().join("face.stl"), square(0.12)).unwrap();
+    let message = resume(&out, &options).err().expect("refused").to_string();
+    assert!(
+        message.contains("builds other shapes or walls"),
+        "{message}"
+    );
+    // Put back, it resumes.
+    std::fs::write(dir.path().join("face.stl"), square(0.1)).unwrap();
+    let (resumed, _) = resume(&out, &options).unwrap();
+    assert_eq!(resumed.world.bodies().len(), 25);
 }

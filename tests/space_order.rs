@@ -171,7 +171,10 @@ fn sorting_bodies_changes_only_their_numbering() {
     assert!(largest < 1e-12, "positions differ by up to {largest:e} m");
     // The ledger too: a turned pair books its dashpot's work from the other side.
     let (d, d_twin) = (w.dissipated(), twin.dissipated());
-    assert!((d - d_twin).abs() < 1e-9 * d_twin, "dissipated {d} vs {d_twin}");
+    assert!(
+        (d - d_twin).abs() < 1e-9 * d_twin,
+        "dissipated {d} vs {d_twin}"
+    );
 }
 
 #[test]

@@ -391,9 +391,13 @@ fn describe(scene: &Path, p: &Prepared) {
     for s in &p.schedule {
         let (most, times) = polydem::run::bodies_to_come(s, p.duration);
         let what = s.spec.shape.as_deref().unwrap_or("sphere");
-        let how_many = match s.spec.count {
-            Some(n) => format!("{n} '{what}' bodies"),
-            None => format!("'{what}' bodies to a volume fraction"),
+        let how_many = match (&s.spec.inlet, s.spec.count) {
+            (Some(inlet), _) => format!(
+                "'{what}' bodies through an inlet, {} per second at {} m/s,",
+                inlet.rate, inlet.speed
+            ),
+            (None, Some(n)) => format!("{n} '{what}' bodies"),
+            (None, None) => format!("'{what}' bodies to a volume fraction"),
         };
         let when = match s.spec.every {
             Some(every) => format!("every {every} s from {} s, {times} times", s.next_time),

@@ -78,6 +78,23 @@ impl CsvSeries {
         Ok(())
     }
 
+    /// Writes the file whole from the rows recorded (a resumed run: the file may hold rows
+    /// written after the checkpoint), or removes it when there are none.
+    pub fn rewrite(&mut self) -> io::Result<()> {
+        if self.rows.is_empty() {
+            self.on_disk = 0;
+            return match std::fs::remove_file(&self.path) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => {
+                    Err(super::atomic::naming(&self.path, e))
+                }
+                _ => Ok(()),
+            };
+        }
+        write_atomic(&self.path, |w| self.write_to(w))?;
+        self.on_disk = self.rows.len();
+        Ok(())
+    }
+
     /// Where the file is written.
     pub fn path(&self) -> &Path {
         &self.path

@@ -24,11 +24,11 @@
 //! Every file is replaced atomically, so a crash at any moment leaves valid files behind.
 
 use super::body_values::{BodyValues, FaceValues, ShapeNames};
-use super::vtk::{write_force_network, ForceNetwork};
-use super::{
-    write_body_surfaces, write_particles, write_polygons, CsvSeries, ParticleFrame, PolygonMesh,
-    PvdSeries,
+use super::vtk::{
+    write_body_surfaces_marked, write_force_network_marked, write_particles_marked,
+    write_polygons_marked, ForceNetwork,
 };
+use super::{CsvSeries, ParticleFrame, PolygonMesh, PvdSeries};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::world::World;
@@ -180,11 +180,75 @@ impl RunOutput {
 
     /// Writes one frame of every VTK series.
     pub fn write_frame(&mut self, world: &World) -> io::Result<()> {
+        self.write_frame_marked(world, None)
+    }
+
+    /// Writes a frame of every VTK series (unless `frame` is false: one was written at this
+    /// step) and a row of every CSV series (unless `rows` is false) at a step off the output
+    /// times, marked as such: `state` (e.g. "blow-up: …") is stored in each `.vtp` as the field
+    /// data string [`super::vtk::FRAME_STATE`], and `note` as a comment before the entries of
+    /// the `.pvd` files. Returns the particles file of the frame (written now or before).
+    pub fn write_marked(
+        &mut self,
+        world: &World,
+        state: &str,
+        note: &str,
+        frame: bool,
+        rows: bool,
+    ) -> io::Result<PathBuf> {
+        if frame {
+            self.write_frame_marked(world, Some((state, note)))?;
+        }
+        if rows {
+            self.write_rows(world)?;
+        }
+        Ok(self
+            .dir
+            .join(format!("particles_{:06}.vtp", self.frame.saturating_sub(1))))
+    }
+
+    /// Makes the files agree with what is recorded here, as a checkpoint stored it: a run
+    /// stopped after its checkpoint may have written frames, series entries and rows since
+    /// (the frame at an interrupt, say), which the resumed run writes again or, for a frame off
+    /// the output times, not at all. Rewrites the `.pvd` and CSV files and removes the frames
+    /// numbered from the next one on, so that the resumed series equals an uninterrupted one.
+    pub fn rewind(&mut self) -> io::Result<()> {
+        for series in [
+            &self.particles,
+            &self.walls,
+            &self.polyhedra,
+            &self.contacts,
+        ] {
+            series.rewrite()?;
+        }
+        for series in [&mut self.energy, &mut self.wall_forces, &mut self.flow] {
+            series.rewrite()?;
+        }
+        let Ok(entries) = std::fs::read_dir(&self.dir) else {
+            return Ok(());
+        };
+        for entry in entries {
+            let entry = entry?;
+            let name = entry.file_name();
+            let Some(name) = name.to_str() else { continue };
+            let later = SERIES
+                .iter()
+                .any(|s| frame_number(name, s).is_some_and(|n| n >= self.frame));
+            if later && entry.file_type()?.is_file() {
+                std::fs::remove_file(entry.path())
+                    .map_err(|e| super::atomic::naming(&entry.path(), e))?;
+            }
+        }
+        Ok(())
+    }
+
+    fn write_frame_marked(&mut self, world: &World, mark: Option<(&str, &str)>) -> io::Result<()> {
+        let (state, note) = (mark.map(|m| m.0), mark.map(|m| m.1));
         let b = world.bodies();
         let values = BodyValues::of(world, &self.names);
         let fields = values.fields(world);
         let name = format!("particles_{:06}.vtp", self.frame);
-        write_particles(
+        write_particles_marked(
             &self.dir.join(&name),
             &ParticleFrame {
                 ids: &b.id,
@@ -194,30 +258,43 @@ impl RunOutput {
                 fields,
             },
             world.time(),
+            state,
         )?;
-        self.particles.add(world.time(), &name, 0)?;
+        self.particles.add_noted(world.time(), &name, 0, note)?;
 
         let name = format!("walls_{:06}.vtp", self.frame);
-        write_polygons(
+        write_polygons_marked(
             &self.dir.join(&name),
             &self.wall_mesh(world),
             "wall",
             world.time(),
+            state,
         )?;
-        self.walls.add(world.time(), &name, 0)?;
+        self.walls.add_noted(world.time(), &name, 0, note)?;
 
         if self.polyhedra_series {
             let name = format!("polyhedra_{:06}.vtp", self.frame);
             let (mesh, of_body) = polyhedra_mesh(world);
             let faces = FaceValues::gather(&fields, &of_body);
-            write_body_surfaces(&self.dir.join(&name), &mesh, &faces.fields(), world.time())?;
-            self.polyhedra.add(world.time(), &name, 0)?;
+            write_body_surfaces_marked(
+                &self.dir.join(&name),
+                &mesh,
+                &faces.fields(),
+                world.time(),
+                state,
+            )?;
+            self.polyhedra.add_noted(world.time(), &name, 0, note)?;
         }
 
         if self.options.force_network {
             let name = format!("contacts_{:06}.vtp", self.frame);
-            write_force_network(&self.dir.join(&name), &force_network(world), world.time())?;
-            self.contacts.add(world.time(), &name, 0)?;
+            write_force_network_marked(
+                &self.dir.join(&name),
+                &force_network(world),
+                world.time(),
+                state,
+            )?;
+            self.contacts.add_noted(world.time(), &name, 0, note)?;
         }
         self.frame += 1;
         Ok(())
@@ -307,6 +384,20 @@ impl RunOutput {
     }
 }
 
+/// The VTK series of a run, by the names of their files.
+const SERIES: [&str; 4] = ["particles", "walls", "polyhedra", "contacts"];
+
+/// The number of a frame file `SERIES_NNNNNN.vtp` of `series`.
+fn frame_number(name: &str, series: &str) -> Option<usize> {
+    let n = name
+        .strip_prefix(series)?
+        .strip_prefix('_')?
+        .strip_suffix(".vtp")?;
+    (n.len() == 6 && n.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| n.parse().ok())
+        .flatten()
+}
+
 /// Removes what an earlier run left in `dir`: its series (`.pvd`, numbered `.vtp` frames, the
 /// CSV files), its checkpoints, and temporaries of writes that were killed. A new run into a
 /// used folder must not leave frames of the old one beside its own (ParaView would show them),
@@ -314,17 +405,10 @@ impl RunOutput {
 /// many files were removed.
 pub fn clear_previous_run(dir: &Path) -> io::Result<usize> {
     let ours = |name: &str| {
-        let series = ["particles", "walls", "polyhedra", "contacts"];
-        let frame = |s: &str| {
-            name.strip_prefix(s)
-                .and_then(|r| r.strip_prefix('_'))
-                .and_then(|r| r.strip_suffix(".vtp"))
-                .is_some_and(|n| n.len() == 6 && n.bytes().all(|b| b.is_ascii_digit()))
-        };
         let temporary = name.starts_with('.') && name.contains(".tmp-");
-        series
+        SERIES
             .iter()
-            .any(|s| frame(s) || name == format!("{s}.pvd"))
+            .any(|s| frame_number(name, s).is_some() || name == format!("{s}.pvd"))
             || ["energy.csv", "wall_forces.csv", "flow.csv", "legend.csv"].contains(&name)
             || temporary
     };

@@ -17,6 +17,13 @@ use glam::{DQuat, DVec3};
 
 use super::{atomic::write_atomic, format_f64, invalid_input};
 
+/// The name of the field-data string of a frame that is not one of the regular output times:
+/// `"blow-up: …"` (the state at which the watchdog stopped the run, with its reason) or
+/// `"interrupted: …"` (the state at which Ctrl-C or SIGTERM stopped it). Regular frames have no
+/// such array. ParaView shows it in the Information panel's data arrays and in the spreadsheet
+/// view's field data.
+pub const FRAME_STATE: &str = "polydem_state";
+
 /// What is written of every body, particle points and polyhedra faces alike, as parallel slices
 /// (one entry per point or face), borrowed so that writing never copies the simulation state.
 #[derive(Debug, Clone, Copy)]
@@ -116,6 +123,16 @@ impl ParticleFrame<'_> {
 ///
 /// Returns `InvalidInput` if the frame's slices differ in length.
 pub fn write_particles(path: &Path, frame: &ParticleFrame, time: f64) -> io::Result<()> {
+    write_particles_marked(path, frame, time, None)
+}
+
+/// [`write_particles`], with field data [`FRAME_STATE`] saying what is special about the frame.
+pub fn write_particles_marked(
+    path: &Path,
+    frame: &ParticleFrame,
+    time: f64,
+    state: Option<&str>,
+) -> io::Result<()> {
     let n = frame.checked_len()?;
     let mut point_data = vec![
         Array::new("id", Values::U64(frame.ids)),
@@ -132,6 +149,7 @@ pub fn write_particles(path: &Path, frame: &ParticleFrame, time: f64) -> io::Res
         point_attributes: r#" Scalars="radius" Vectors="velocity""#,
         cells: Cells::Verts(n),
         cell_data: Vec::new(),
+        state,
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -147,6 +165,17 @@ pub fn write_body_surfaces(
     fields: &BodyFields,
     time: f64,
 ) -> io::Result<()> {
+    write_body_surfaces_marked(path, mesh, fields, time, None)
+}
+
+/// [`write_body_surfaces`], with field data [`FRAME_STATE`].
+pub fn write_body_surfaces_marked(
+    path: &Path,
+    mesh: &PolygonMesh,
+    fields: &BodyFields,
+    time: f64,
+    state: Option<&str>,
+) -> io::Result<()> {
     check_lengths("body surface", mesh.polygons.len(), &fields.lengths())?;
     check_polygons(mesh)?;
     let mut cell_data = vec![Array::new("id", Values::U32(&mesh.cell_ids))];
@@ -159,6 +188,7 @@ pub fn write_body_surfaces(
         point_attributes: "",
         cells: Cells::Polys(&mesh.polygons),
         cell_data,
+        state,
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -187,6 +217,17 @@ pub fn write_polygons(
     id_name: &'static str,
     time: f64,
 ) -> io::Result<()> {
+    write_polygons_marked(path, mesh, id_name, time, None)
+}
+
+/// [`write_polygons`], with field data [`FRAME_STATE`].
+pub fn write_polygons_marked(
+    path: &Path,
+    mesh: &PolygonMesh,
+    id_name: &'static str,
+    time: f64,
+    state: Option<&str>,
+) -> io::Result<()> {
     check_polygons(mesh)?;
     let num_vertices = mesh.vertices.len();
     let file = PolyDataFile {
@@ -197,6 +238,7 @@ pub fn write_polygons(
         point_attributes: "",
         cells: Cells::Polys(&mesh.polygons),
         cell_data: vec![Array::new(id_name, Values::U32(&mesh.cell_ids))],
+        state,
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -239,6 +281,16 @@ pub struct ForceNetwork {
 
 /// Writes a force network as a `.vtp` file of line cells.
 pub fn write_force_network(path: &Path, network: &ForceNetwork, time: f64) -> io::Result<()> {
+    write_force_network_marked(path, network, time, None)
+}
+
+/// [`write_force_network`], with field data [`FRAME_STATE`].
+pub fn write_force_network_marked(
+    path: &Path,
+    network: &ForceNetwork,
+    time: f64,
+    state: Option<&str>,
+) -> io::Result<()> {
     let n = network.lines.len();
     if network.normal_force.len() != n
         || network.force.len() != n
@@ -269,6 +321,7 @@ pub fn write_force_network(path: &Path, network: &ForceNetwork, time: f64) -> io
             Array::new("force", Values::Vec3(&network.force)),
             Array::new("wall_contact", Values::U32(&network.wall_contact)),
         ],
+        state,
     };
     write_atomic(path, |w| file.write_to(w))
 }
@@ -286,6 +339,10 @@ struct PvdEntry {
     time: f64,
     file: String,
     part: u32,
+    /// Written as an XML comment before the entry: what is special about this data set (the
+    /// state at a blow-up, at an interrupt). Regular frames have none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    note: Option<String>,
 }
 
 impl PvdSeries {
@@ -311,6 +368,18 @@ impl PvdSeries {
     /// Returns `InvalidInput` for a non-finite time (it is not recorded). If
     /// writing fails the entry stays recorded and the next add writes it.
     pub fn add(&mut self, time: f64, file: &str, part: u32) -> io::Result<()> {
+        self.add_noted(time, file, part, None)
+    }
+
+    /// [`PvdSeries::add`], with `note` written as an XML comment before the entry (ParaView
+    /// ignores it; a reader of the file sees why the data set is there).
+    pub fn add_noted(
+        &mut self,
+        time: f64,
+        file: &str,
+        part: u32,
+        note: Option<&str>,
+    ) -> io::Result<()> {
         if !time.is_finite() {
             return Err(invalid_input(format!(
                 "pvd time step must be finite, got {time}"
@@ -320,7 +389,22 @@ impl PvdSeries {
             time,
             file: file.to_string(),
             part,
+            note: note.map(str::to_string),
         });
+        write_atomic(&self.path, |w| self.write_to(w))
+    }
+
+    /// Writes the collection as recorded (a resumed run: the file may list data sets written
+    /// after the checkpoint), or removes the file when nothing is recorded.
+    pub fn rewrite(&self) -> io::Result<()> {
+        if self.entries.is_empty() {
+            return match std::fs::remove_file(&self.path) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => {
+                    Err(super::atomic::naming(&self.path, e))
+                }
+                _ => Ok(()),
+            };
+        }
         write_atomic(&self.path, |w| self.write_to(w))
     }
 
@@ -347,6 +431,10 @@ impl PvdSeries {
         )?;
         writeln!(w, "  <Collection>")?;
         for e in &self.entries {
+            if let Some(note) = &e.note {
+                // "--" may not appear in an XML comment.
+                writeln!(w, "    <!-- {} -->", note.replace("--", "- -"))?;
+            }
             writeln!(
                 w,
                 r#"    <DataSet timestep="{}" group="" part="{}" file="{}"/>"#,
@@ -392,6 +480,8 @@ enum Values<'a> {
     PolyConnectivity(&'a [Vec<u32>]),
     /// End offset of each polygon in the connectivity array.
     PolyOffsets(&'a [Vec<u32>]),
+    /// One string (a VTK `String` array of one tuple: its bytes and a terminating 0).
+    Text(&'a str),
 }
 
 impl Values<'_> {
@@ -400,6 +490,7 @@ impl Values<'_> {
             Values::U64(_) => "UInt64",
             Values::U32(_) => "UInt32",
             Values::F64(_) | Values::Vec3(_) | Values::Quat(_) => "Float64",
+            Values::Text(_) => "String",
             // vtkIdType is 64-bit in current VTK builds.
             Values::VertConnectivity(_)
             | Values::VertOffsets(_)
@@ -419,6 +510,7 @@ impl Values<'_> {
     fn byte_len(&self) -> u64 {
         let count = match self {
             Values::U32(v) => return 4 * v.len() as u64,
+            Values::Text(t) => return t.len() as u64 + 1,
             Values::U64(v) => v.len(),
             Values::F64(v) => v.len(),
             Values::Vec3(v) => 3 * v.len(),
@@ -436,6 +528,10 @@ impl Values<'_> {
         match *self {
             Values::U64(v) => v.iter().try_for_each(|x| w.write_all(&x.to_le_bytes())),
             Values::U32(v) => v.iter().try_for_each(|x| w.write_all(&x.to_le_bytes())),
+            Values::Text(t) => {
+                w.write_all(t.as_bytes())?;
+                w.write_all(&[0])
+            }
             Values::F64(v) => write_f64s(w, v.iter().copied()),
             Values::Vec3(v) => write_f64s(w, v.iter().flat_map(|p| p.to_array())),
             Values::Quat(v) => write_f64s(w, v.iter().flat_map(|q| [q.w, q.x, q.y, q.z])),
@@ -505,6 +601,8 @@ struct PolyDataFile<'a> {
     point_attributes: &'static str,
     cells: Cells<'a>,
     cell_data: Vec<Array<'a>>,
+    /// What is special about this frame (see [`FRAME_STATE`]), if anything.
+    state: Option<&'a str>,
 }
 
 impl PolyDataFile<'_> {
@@ -556,6 +654,10 @@ impl PolyDataFile<'_> {
         header.line("    <FieldData>")?;
         // Field data has no piece to take its length from.
         header.array("      ", &time_array, Some(1))?;
+        if let Some(state) = self.state {
+            let state = Array::new(FRAME_STATE, Values::Text(state));
+            header.array("      ", &state, Some(1))?;
+        }
         header.line("    </FieldData>")?;
         header.line(&format!(
             r#"    <Piece NumberOfPoints="{}" NumberOfVerts="{num_verts}" NumberOfLines="{num_lines}" NumberOfStrips="0" NumberOfPolys="{num_polys}">"#,

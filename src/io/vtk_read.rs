@@ -137,6 +137,9 @@ impl CellList {
 pub struct PolyData {
     /// Field data `TIME`, when present.
     pub time: Option<f64>,
+    /// Field data string [`crate::io::vtk::FRAME_STATE`] of a frame off the output times (the
+    /// state at a blow-up or an interrupt), when present.
+    pub state: Option<String>,
     pub points: Vec<DVec3>,
     pub point_data: Vec<DataArray>,
     /// One tuple per cell, vertex cells first, then lines, then polygons (VTK's order).
@@ -276,7 +279,42 @@ fn parse_vtp(bytes: &[u8]) -> Result<PolyData, String> {
         let time = read_array(field, data, None)?;
         data_set.time = time.values.first().copied();
     }
+    if let Some(field) = root
+        .descendants()
+        .find(|n| n.has_tag_name("FieldData"))
+        .and_then(|f| {
+            f.children().find(|n| {
+                n.has_tag_name("DataArray")
+                    && n.attribute("Name") == Some(crate::io::vtk::FRAME_STATE)
+            })
+        })
+    {
+        data_set.state = Some(read_text(field, data)?);
+    }
     Ok(data_set)
+}
+
+/// Reads an appended `String` array of one tuple (its bytes, ended by a 0).
+fn read_text(node: roxmltree::Node, data: &[u8]) -> Result<String, String> {
+    let name = node.attribute("Name").unwrap_or("(unnamed)");
+    if node.attribute("type") != Some("String") || node.attribute("format") != Some("appended") {
+        return Err(format!(
+            "field data \"{name}\" is not an appended String array"
+        ));
+    }
+    let offset: usize = node
+        .attribute("offset")
+        .and_then(|o| o.parse().ok())
+        .ok_or_else(|| format!("DataArray \"{name}\" has a bad offset"))?;
+    let cut_short =
+        || format!("the data of array \"{name}\" runs past the end of the file (file cut short?)");
+    let length_end = offset.checked_add(8).ok_or_else(cut_short)?;
+    let length = data.get(offset..length_end).ok_or_else(cut_short)?;
+    let length = u64::from_le_bytes(length.try_into().expect("8 bytes")) as usize;
+    let end = length_end.checked_add(length).ok_or_else(cut_short)?;
+    let block = data.get(length_end..end).ok_or_else(cut_short)?;
+    let text = block.strip_suffix(&[0]).unwrap_or(block);
+    String::from_utf8(text.to_vec()).map_err(|_| format!("string \"{name}\" is not UTF-8"))
 }
 
 fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {

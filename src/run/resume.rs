@@ -79,7 +79,7 @@ fn restore(
     }
     let mut prepared = scene.build().map_err(|e| RunError::Resume(e.to_string()))?;
     let templates = templates(&prepared);
-    let fingerprint = checkpoint::fingerprint(&prepared.world, &templates);
+    let fingerprint = super::fingerprint(&prepared, &templates);
     if fingerprint != saved.fingerprint {
         return Err(RunError::Resume(format!(
             "'{}' builds other shapes or walls than the run in '{}' was started with: a mesh or \
@@ -106,10 +106,15 @@ fn restore(
     let mut output = saved.progress.output;
     output.relocate(out_dir);
     output.set_shape_names(ShapeNames::new(prepared.shape_names.clone()));
+    // Drop what the stopped run wrote after its checkpoint (a frame at an interrupt, rows).
+    output.rewind()?;
     let watch = super::EnergyWatch::new(&prepared.world);
+    let sides = super::WallSides::new(&prepared.world);
     let rest = Detached {
         watch,
         warned: false,
+        sides,
+        warned_sides: false,
         output,
         control: Control {
             scene: Some(record),

@@ -3,7 +3,7 @@
 //! the Python package drives runs this way). Paused and driven on, a run writes what it would
 //! have written in one go: frames, rows and checkpoints fall on their own steps.
 
-use super::{Control, EnergyWatch, RunError, RunEvent, Session};
+use super::{Control, EnergyWatch, RunError, RunEvent, Session, WallSides};
 use crate::body::BodyInit;
 use crate::io::output::RunOutput;
 use crate::scene::Prepared;
@@ -26,6 +26,8 @@ pub(super) struct Detached {
     pub(super) fingerprint: u64,
     pub(super) watch: EnergyWatch,
     pub(super) warned: bool,
+    pub(super) sides: WallSides,
+    pub(super) warned_sides: bool,
 }
 
 impl Detached {
@@ -37,6 +39,8 @@ impl Detached {
             fingerprint: session.fingerprint,
             watch: session.watch,
             warned: session.warned,
+            sides: session.sides,
+            warned_sides: session.warned_sides,
         }
     }
 
@@ -49,6 +53,8 @@ impl Detached {
             fingerprint: self.fingerprint,
             watch: self.watch,
             warned: self.warned,
+            sides: self.sides,
+            warned_sides: self.warned_sides,
         }
     }
 }

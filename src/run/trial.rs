@@ -13,8 +13,10 @@ pub fn bodies_to_come(s: &ScheduledInsertion, duration: f64) -> (u64, u64) {
         _ => u64::from(s.next_time <= end),
     };
     // A volume fraction asks for as many bodies as fill it: known only when placing them.
-    let each = s.spec.count.map_or(0, |c| c as u64);
-    (each * times, times)
+    let bodies = (s.done..s.done + times)
+        .map(|k| s.spec.count_at(k).map_or(0, |c| c as u64))
+        .sum();
+    (bodies, times)
 }
 
 /// A timed trial of a run's first steps.

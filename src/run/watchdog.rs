@@ -4,6 +4,9 @@
 //! for a long while (issue #12); the ledger shows it at once.
 
 use crate::energy::EnergyReport;
+use crate::geometry::bvh::Bvh;
+use crate::geometry::point_in_polyhedron::{locate_point_bvh, Location};
+use crate::math::DVec3;
 use crate::World;
 
 /// The ledger total may drift by at most this fraction of the energy in play before the run is
@@ -88,6 +91,127 @@ pub fn too_fast(world: &World, limit: f64) -> Option<String> {
     ))
 }
 
+/// The closed mesh walls of a world, each with the side of it that is solid: a body whose centre
+/// lies there has gone through the wall, a blow-up that no energy or speed check need see (a body
+/// jumping through a wall in one step touches nothing). Open sheets (a chute) have no inside: a
+/// body behind one is refused at the start (`scene::wall_sides`) and shows during the run only by
+/// the other checks.
+pub struct WallSides {
+    walls: Vec<ClosedWall>,
+}
+
+/// One closed mesh wall, in its reference placement (bodies are taken there by its pose).
+struct ClosedWall {
+    /// The wall's index among the mesh walls.
+    index: usize,
+    vertices: Vec<DVec3>,
+    triangles: Vec<[usize; 3]>,
+    bvh: Bvh,
+    /// Whether the solid side is inside the surface (triangles facing out: a solid block, a
+    /// screw's blade) or outside it (triangles facing in: a closed container). Decided by the
+    /// sign of the enclosed volume, so a container holding a block is right for both: a point
+    /// is on the solid side when its crossing parity says `Inside` for a net outward wall and
+    /// `Outside` for a net inward one.
+    solid_inside: bool,
+}
+
+impl WallSides {
+    /// The closed mesh walls of `world` (open ones and ones enclosing no volume are left out).
+    pub fn new(world: &World) -> Self {
+        let walls = world
+            .mesh_walls()
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| w.is_closed())
+            .filter_map(|(index, w)| {
+                let vertices = w.vertices().to_vec();
+                let triangles: Vec<[usize; 3]> = w
+                    .triangles()
+                    .iter()
+                    .map(|t| t.map(|v| v as usize))
+                    .collect();
+                let volume: f64 = triangles
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.map(|v| vertices[v]);
+                        a.dot(b.cross(c)) / 6.0
+                    })
+                    .sum();
+                // A sheet wound both ways (a plate with a back) is closed but encloses nothing:
+                // its volume is rounding noise, and it has no solid side.
+                if !(volume.is_finite() && volume.abs() > 1e-9 * w.area().powf(1.5)) {
+                    return None;
+                }
+                let bvh = Bvh::new(&vertices, &triangles);
+                Some(ClosedWall {
+                    index,
+                    vertices,
+                    triangles,
+                    bvh,
+                    solid_inside: volume > 0.0,
+                })
+            })
+            .collect();
+        Self { walls }
+    }
+
+    /// Whether there is a closed wall to check.
+    pub fn is_empty(&self) -> bool {
+        self.walls.is_empty()
+    }
+
+    /// `None` while every body's centre is on the open side of every closed mesh wall; else a
+    /// message naming the first body found behind one (`names`: the walls' names, planes first,
+    /// as in `wall_forces.csv`). O(bodies × log triangles).
+    pub fn check(&self, world: &World, names: &[String]) -> Option<String> {
+        let b = world.bodies();
+        for wall in &self.walls {
+            let mesh = &world.mesh_walls()[wall.index];
+            let pose = mesh.pose();
+            let behind = (0..b.len()).find(|&i| {
+                let p = pose.to_reference(b.position[i]);
+                let solid = if wall.solid_inside {
+                    Location::Inside
+                } else {
+                    Location::Outside
+                };
+                // A non-finite centre is another check's business.
+                p.is_finite()
+                    && locate_point_bvh(p, &wall.vertices, &wall.triangles, &wall.bvh) == solid
+            });
+            let Some(i) = behind else { continue };
+            let name = names
+                .get(world.planes().len() + wall.index)
+                .map(|n| format!(" (\"{n}\" in wall_forces.csv)"))
+                .unwrap_or_default();
+            let side = if wall.solid_inside {
+                "inside the solid its triangles enclose"
+            } else {
+                "outside the closed container it forms"
+            };
+            let p = b.position[i];
+            return Some(format!(
+                "the run blew up at t = {:.6e} s (step {}): the centre of body {} is at \
+                 ({:.4e}, {:.4e}, {:.4e}) m, behind [[mesh_wall]] #{}{name}: {side}, where no \
+                 body can be. It has gone through the wall. Likely causes: a time step above the \
+                 stable one (a body moving further in one step than a contact can stop it; \
+                 `polydem check` prints the estimate), a wall too soft for the speed of the \
+                 bodies hitting it (a Young's modulus so low that the overlap grows past the \
+                 body's radius), or a wall moved by its `motion` faster than the bodies can \
+                 follow. The frames written before are valid.",
+                world.time(),
+                world.steps_done(),
+                b.id[i],
+                p.x,
+                p.y,
+                p.z,
+                wall.index + 1,
+            ));
+        }
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,6 +220,97 @@ mod tests {
     use crate::math::DVec3;
     use crate::shape::{Shape, Sphere};
     use crate::WorldConfig;
+
+    fn world_with(walls: Vec<crate::wall::MeshWall>, positions: &[DVec3]) -> World {
+        let material = Material {
+            name: "m".into(),
+            density: 1000.0,
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.3,
+            restitution: 0.5,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        };
+        let laws = PairTable::new(
+            std::slice::from_ref(&material),
+            crate::contact_law::NormalLaw::Hertz,
+            1.0,
+            &[],
+        );
+        let mut world = World::new(WorldConfig {
+            time_step: 1e-5,
+            gravity: DVec3::ZERO,
+            materials: vec![material],
+            pair_laws: laws,
+            planes: Vec::new(),
+            broad_phase: Default::default(),
+            skin: None,
+            threads: 1,
+        })
+        .unwrap()
+        .with_mesh_walls(walls);
+        for &position in positions {
+            world.add_body(BodyInit {
+                shape: Shape::Sphere(Sphere::new(0.01)),
+                material: 0,
+                position,
+                orientation: crate::math::DQuat::IDENTITY,
+                velocity: DVec3::ZERO,
+                angular_velocity: DVec3::ZERO,
+            });
+        }
+        world
+    }
+
+    fn unit_box(facing: crate::wall::Facing) -> crate::wall::MeshWall {
+        crate::wall::generators::box_mesh(DVec3::splat(-1.0), DVec3::splat(1.0), 2, facing)
+            .unwrap()
+            .into_wall(0)
+            .unwrap()
+    }
+
+    #[test]
+    fn bodies_behind_closed_walls_are_found_on_the_solid_side_only() {
+        use crate::wall::Facing;
+        let (inside, outside) = (DVec3::new(0.3, -0.2, 0.5), DVec3::new(1.5, 0.0, 0.0));
+        // A container (facing in): outside is solid.
+        let world = world_with(vec![unit_box(Facing::Inward)], &[inside, outside]);
+        let sides = WallSides::new(&world);
+        let why = sides.check(&world, &[]).unwrap();
+        assert!(
+            why.contains("body 1") && why.contains("outside the closed"),
+            "{why}"
+        );
+        let world = world_with(vec![unit_box(Facing::Inward)], &[inside]);
+        assert!(WallSides::new(&world).check(&world, &[]).is_none());
+        // A block (facing out): inside is solid.
+        let world = world_with(vec![unit_box(Facing::Outward)], &[outside, inside]);
+        let why = WallSides::new(&world)
+            .check(&world, &["block".into()])
+            .unwrap();
+        assert!(
+            why.contains("body 1") && why.contains("inside the solid"),
+            "{why}"
+        );
+        assert!(why.contains("(\"block\" in wall_forces.csv)"), "{why}");
+        // An open sheet has no solid side: not checked.
+        let sheet =
+            crate::wall::MeshWall::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2]], 0)
+                .unwrap();
+        let world = world_with(vec![sheet], &[DVec3::new(0.1, 0.1, -0.5)]);
+        assert!(WallSides::new(&world).is_empty());
+        // A moving container (faster than anything, through the body from behind, where it
+        // does not act): the body is judged against where the wall is now.
+        let mut moving = unit_box(Facing::Inward);
+        moving.motion = crate::wall::WallMotion::fixed()
+            .with_velocity(DVec3::new(20.0, 0.0, 0.0))
+            .unwrap();
+        let mut world = world_with(vec![moving], &[DVec3::new(1.2, 0.0, 0.0)]);
+        let sides = WallSides::new(&world);
+        assert!(sides.check(&world, &[]).is_some());
+        world.run_steps(2500); // the box moved by 0.5 m: now from -0.5 to 1.5
+        assert!(sides.check(&world, &[]).is_none());
+    }
 
     #[test]
     fn a_body_faster_than_the_limit_is_named() {

@@ -1,6 +1,6 @@
 //! Filling a box region with spheres: on a lattice, or at seeded random non-overlapping places.
 
-use super::format::{InsertMethod, InsertSpec, RadiusDistribution};
+use super::format::{InletFace, InsertMethod, InsertSpec, RadiusDistribution};
 use crate::math::{Aabb, DVec3};
 use crate::narrow_phase::{is_behind_mesh, sphere_mesh};
 use crate::rng::SplitMix64;
@@ -56,7 +56,11 @@ pub fn insert(
     let (min, max) = spec.bounds();
     let (min, max) = (DVec3::from(min), DVec3::from(max));
     let mut rng = SplitMix64::new(spec.seed.wrapping_add(repetition.wrapping_mul(0x9E37_79B9)));
-    let radii = draw_radii(spec, shape, spec.volume(), &mut rng);
+    let count = spec.count_at(repetition);
+    if count == Some(0) {
+        return Ok(Vec::new()); // an inlet whose rate brings no body in this interval
+    }
+    let radii = draw_radii(spec, count, shape, spec.volume(), &mut rng);
     let r_max = radii.iter().cloned().fold(0.0, f64::max);
     let mut obstacles = Obstacles::new(existing, planes, meshes, r_max);
     obstacles.region = Some(spec);
@@ -173,6 +177,89 @@ impl<'a> Obstacles<'a> {
     }
 }
 
+/// The face of an inlet read from a mesh file: its triangles (turned over with `flip`), outline,
+/// area, centroid and unit normal (the side its triangles face). Refused, saying why, unless the
+/// triangles lie in one plane and all face one way.
+pub fn flat_face(
+    mesh: &crate::io::mesh::ImportedMesh,
+    flip: bool,
+) -> Result<(InletFace, DVec3, DVec3), String> {
+    let triangles: Vec<[DVec3; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|&[a, b, c]| {
+            let t = if flip { [a, c, b] } else { [a, b, c] };
+            t.map(|i| mesh.vertices[i])
+        })
+        .collect();
+    let cross = |[a, b, c]: [DVec3; 3]| (b - a).cross(c - a);
+    let total: DVec3 = triangles.iter().map(|&t| cross(t)).sum();
+    let area2: f64 = triangles.iter().map(|&t| cross(t).length()).sum();
+    let Some(normal) = total
+        .try_normalize()
+        .filter(|_| total.length() > 0.5 * area2)
+    else {
+        return Err(
+            "its triangles do not face one way (an inlet face is flat, all its \
+                    triangles wound alike)"
+                .into(),
+        );
+    };
+    if let Some(k) = triangles.iter().position(|&t| cross(t).dot(normal) <= 0.0) {
+        return Err(format!(
+            "triangle {k} faces the other way from the rest: an inlet face is flat, all its \
+             triangles wound alike"
+        ));
+    }
+    let area = 0.5 * area2;
+    let centre: DVec3 = triangles
+        .iter()
+        .map(|&t| (t[0] + t[1] + t[2]) / 3.0 * (0.5 * cross(t).length()))
+        .sum::<DVec3>()
+        / area;
+    let size = mesh
+        .vertices
+        .iter()
+        .fold(Aabb::new(centre, centre), |b, &v| b.union(&Aabb::new(v, v)))
+        .extent()
+        .length();
+    if let Some((k, off)) = triangles
+        .iter()
+        .flatten()
+        .map(|&v| (v - centre).dot(normal).abs())
+        .enumerate()
+        .find(|&(_, off)| off > 1e-6 * size)
+    {
+        return Err(format!(
+            "it is not flat: corner {} of triangle {} lies {off:.3e} m off the plane of the \
+             face; an inlet face is one flat patch",
+            k % 3,
+            k / 3
+        ));
+    }
+    let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
+    for &[a, b, c] in &mesh.triangles {
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            *edges.entry((p.min(q), p.max(q))).or_default() += 1;
+        }
+    }
+    // In the hash map's order: only whether every edge is far enough counts.
+    let outline: Vec<[DVec3; 2]> = edges
+        .into_iter()
+        .filter(|&(_, count)| count == 1)
+        .map(|((p, q), _)| [mesh.vertices[p], mesh.vertices[q]])
+        .collect();
+    Ok((
+        InletFace {
+            triangles,
+            outline,
+            area,
+        },
+        centre,
+        normal,
+    ))
+}
+
 /// The smallest radius an insertion can produce.
 pub fn smallest_radius(spec: &InsertSpec, shape: Option<ShapeSize>) -> f64 {
     if let Some(shape) = shape {
@@ -189,6 +276,7 @@ pub fn smallest_radius(spec: &InsertSpec, shape: Option<ShapeSize>) -> f64 {
 /// Radii for the insertion: `count` of them, or as many as make up `volume_fraction` of the region.
 fn draw_radii(
     spec: &InsertSpec,
+    count: Option<usize>,
     shape: Option<ShapeSize>,
     region_volume: f64,
     rng: &mut SplitMix64,
@@ -221,7 +309,7 @@ fn draw_radii(
         Some(shape) => shape.volume,
         None => 4.0 / 3.0 * PI * r.powi(3),
     };
-    match (spec.count, spec.volume_fraction) {
+    match (count, spec.volume_fraction) {
         (Some(n), _) => (0..n).map(|_| draw()).collect(),
         (None, Some(fraction)) => {
             let target = fraction * region_volume;
@@ -362,6 +450,7 @@ mod tests {
             region_min: Some([0.0; 3]),
             region_max: Some([1.0; 3]),
             cylinder: None,
+            inlet: None,
             count: Some(100),
             volume_fraction: None,
             radius: Some(0.05),

@@ -183,7 +183,7 @@ fn inserted_body(
     placed: &Placed,
     orientations: &mut crate::rng::SplitMix64,
 ) -> BodyInit {
-    let velocity = DVec3::from(spec.velocity);
+    let velocity = DVec3::from(spec.initial_velocity());
     match shape {
         None => sphere(placed.radius, material, placed.centre, velocity),
         Some(built) => {
@@ -248,13 +248,51 @@ impl Scene {
     pub fn parse(file: &Path, source: String) -> Result<Self, SceneError> {
         let spec: SceneFile =
             toml::from_str(&source).map_err(|e| SceneError::from_toml(file, &source, &e))?;
-        let scene = Self {
+        let mut scene = Self {
             file: file.to_path_buf(),
             source,
             spec,
         };
+        scene.read_inlet_faces()?;
         validate::check(&scene)?;
         Ok(scene)
+    }
+
+    /// Reads the faces of inlets given as mesh files, and sets their centre and normal.
+    fn read_inlet_faces(&mut self) -> Result<(), SceneError> {
+        for n in 0..self.spec.insertions.len() {
+            let Some(inlet) = &self.spec.insertions[n].inlet else {
+                continue;
+            };
+            let Some(file) = &inlet.file else { continue };
+            let key = |k: &str| KeyPath::entry("insert", n).key(k);
+            if inlet.centre.is_some() || inlet.normal.is_some() || inlet.side.is_some() {
+                let k = match (inlet.centre, inlet.normal) {
+                    (Some(_), _) => "inlet.centre",
+                    (None, Some(_)) => "inlet.normal",
+                    _ => "inlet.side",
+                };
+                return Err(self.error(
+                    key(k),
+                    "a face from a `file` has its centre and normal from the file (the side its \
+                     triangles face; `flip = true` turns it): leave out `centre`, `normal` and \
+                     `side`",
+                ));
+            }
+            let path = shapes::scene_folder(self).join(file);
+            let mesh = crate::io::mesh::read_mesh(&path, 1.0)
+                .map_err(|e| self.error(key("inlet.file"), e.to_string()))?;
+            let (face, centre, normal) = insert::flat_face(&mesh, inlet.flip)
+                .map_err(|why| self.error(key("inlet.file"), format!("'{file}': {why}")))?;
+            let inlet = self.spec.insertions[n]
+                .inlet
+                .as_mut()
+                .expect("an inlet, matched above");
+            inlet.face = Some(std::sync::Arc::new(face));
+            inlet.centre = Some(centre.to_array());
+            inlet.normal = Some(normal.to_array());
+        }
+        Ok(())
     }
 
     pub(crate) fn error(&self, key: KeyPath, message: impl Into<String>) -> SceneError {

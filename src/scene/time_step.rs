@@ -217,7 +217,7 @@ impl Scene {
             high = high.max(h + radius);
         }
         for i in &self.spec.insertions {
-            speed = speed.max(DVec3::from(i.velocity).length());
+            speed = speed.max(DVec3::from(i.initial_velocity()).length());
             let (lo, hi) = i.bounds();
             let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
             for corner in 0..8 {

@@ -1,6 +1,6 @@
 //! Range checks on a parsed scene: every number finite and within what the physics allows.
 
-use super::format::{InsertSpec, RadiusDistribution, TimeStep, Vec3};
+use super::format::{InletSpec, InsertSpec, RadiusDistribution, TimeStep, Vec3};
 use super::{KeyPath, Scene, SceneError};
 
 pub fn check(scene: &Scene) -> Result<(), SceneError> {
@@ -160,8 +160,8 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
         }
     }
     c.vector(key("velocity"), i.velocity)?;
-    match (i.region_min, i.region_max, i.cylinder) {
-        (Some(lo), Some(hi), None) => {
+    match (i.region_min, i.region_max, i.cylinder, &i.inlet) {
+        (Some(lo), Some(hi), None, None) => {
             c.vector(key("region_min"), lo)?;
             c.vector(key("region_max"), hi)?;
             if (0..3).any(|a| hi[a] <= lo[a]) {
@@ -171,7 +171,8 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
                 ));
             }
         }
-        (None, None, Some(cyl)) => {
+        (None, None, None, Some(inlet)) => check_inlet(c, n, i, inlet)?,
+        (None, None, Some(cyl), None) => {
             c.vector(key("cylinder.centre"), cyl.centre)?;
             c.vector(key("cylinder.axis"), cyl.axis)?;
             if cyl.axis.iter().all(|&x| x == 0.0) {
@@ -185,12 +186,26 @@ fn check_insertion(c: &Checker, n: usize, i: &InsertSpec) -> Result<(), SceneErr
         _ => {
             return Err(c.scene.error(
                 key("region_min"),
-                "give the region as `region_min` and `region_max` (a box) or as `cylinder = \
-                 { centre, axis, radius, length }`, one of the two",
+                "give the region as `region_min` and `region_max` (a box), as `cylinder = \
+                 { centre, axis, radius, length }`, or as `inlet = { centre, normal, radius or \
+                 size, speed, rate }` (bodies streaming in through a face), one of the three",
             ))
         }
     }
     match (i.count, i.volume_fraction) {
+        (None, None) if i.inlet.is_some() => {}
+        (count, _) if i.inlet.is_some() => {
+            let k = if count.is_some() {
+                "count"
+            } else {
+                "volume_fraction"
+            };
+            return Err(c.scene.error(
+                key(k),
+                "an inlet inserts `inlet.rate` bodies per second, `rate × every` at a time: \
+                 leave out `count` and `volume_fraction`",
+            ));
+        }
         (Some(_), Some(_)) | (None, None) => {
             return Err(c.scene.error(
                 key("count"),
@@ -384,6 +399,90 @@ const SIZE: Plausible = Plausible {
 /// Smallest share of a normal radius distribution that [min, max] must hold.
 const MIN_NORMAL_ACCEPTANCE: f64 = 1e-3;
 
+/// The keys of an inlet (`[[insert]] inlet = { … }`): a disc or a rectangle, a normal that is not
+/// zero, a speed and a rate; `every` given (the interval between layers), `velocity` not (the
+/// inlet sets it).
+fn check_inlet(c: &Checker, n: usize, i: &InsertSpec, inlet: &InletSpec) -> Result<(), SceneError> {
+    let key = |k: &str| KeyPath::entry("insert", n).key(k);
+    // A face from a file was read (and its centre and normal set) when the scene was parsed.
+    let (Some(centre), Some(normal)) = (inlet.centre, inlet.normal) else {
+        let k = if inlet.centre.is_none() {
+            "inlet.centre"
+        } else {
+            "inlet.normal"
+        };
+        return Err(c.scene.error(
+            key(k),
+            "an inlet's face needs its `centre` and `normal` (or a mesh `file`, which gives them)",
+        ));
+    };
+    c.vector(key("inlet.centre"), centre)?;
+    c.vector(key("inlet.normal"), normal)?;
+    if normal.iter().all(|&x| x == 0.0) {
+        return Err(c.scene.error(
+            key("inlet.normal"),
+            "the normal must not be zero: it is the direction bodies leave the face in",
+        ));
+    }
+    match (inlet.radius, inlet.size, &inlet.file) {
+        (Some(r), None, None) => c.positive(key("inlet.radius"), r, "m")?,
+        (None, Some([a, b]), None) => {
+            c.positive(key("inlet.size"), a, "m")?;
+            c.positive(key("inlet.size"), b, "m")?;
+        }
+        (None, None, Some(_)) => {}
+        _ => {
+            return Err(c.scene.error(
+                key("inlet.radius"),
+                "give the face as `radius` (a disc), `size = [a, b]` (a rectangle, side a \
+                 along `side`) or `file` (a flat mesh), one of the three",
+            ))
+        }
+    }
+    if inlet.flip && inlet.file.is_none() {
+        return Err(c.scene.error(
+            key("inlet.flip"),
+            "`flip` turns the triangles of a face from a `file`; a disc or rectangle leaves to \
+             its `normal`",
+        ));
+    }
+    if let Some(side) = inlet.side {
+        c.vector(key("inlet.side"), side)?;
+        if inlet.size.is_none() {
+            return Err(c.scene.error(
+                key("inlet.side"),
+                "`side` turns a rectangular face (`size`); a disc has none",
+            ));
+        }
+        let (nn, s) = (
+            crate::math::DVec3::from(normal).normalize(),
+            crate::math::DVec3::from(side),
+        );
+        if (s - nn * nn.dot(s)).length() <= 1e-9 * s.length() {
+            return Err(c.scene.error(
+                key("inlet.side"),
+                "`side` must not be parallel to the normal: it is a direction in the face",
+            ));
+        }
+    }
+    c.positive(key("inlet.speed"), inlet.speed, "m/s")?;
+    c.positive(key("inlet.rate"), inlet.rate, "bodies/s")?;
+    if i.every.is_none() {
+        return Err(c.scene.error(
+            key("inlet"),
+            "an inlet inserts a layer of bodies every `every` seconds: give `every` (the \
+             layer is `inlet.speed × every` thick, at least one body across)",
+        ));
+    }
+    if i.velocity != [0.0; 3] {
+        return Err(c.scene.error(
+            key("velocity"),
+            "an inlet gives its bodies `inlet.speed` along `inlet.normal`: leave out `velocity`",
+        ));
+    }
+    Ok(())
+}
+
 /// Most spheres one insertion may ask for (directly, or through `volume_fraction`).
 const MAX_INSERTED: f64 = 1e8;
 
@@ -409,13 +508,37 @@ fn check_insertion_size(
         None => ("sphere of radius".into(), "spheres of radius".into()),
     };
     let (lo, hi) = i.bounds();
-    let extent: Vec<f64> = match i.cylinder {
-        Some(cyl) => vec![2.0 * cyl.radius, cyl.length],
-        None => (0..3).map(|a| hi[a] - lo[a]).collect(),
+    if let Some(inlet) = &i.inlet {
+        let depth = i.inlet_depth();
+        if depth < 2.0 * r_max {
+            return Err(c.scene.error(
+                key("every"),
+                format!(
+                    "the inlet's layer, speed × every = {depth:.4e} m, is thinner than one {one} \
+                     {r_max} m: give every ≥ {:.4e} s (or a higher speed)",
+                    2.0 * r_max / inlet.speed
+                ),
+            ));
+        }
+    }
+    let extent: Vec<f64> = match (i.cylinder, &i.inlet) {
+        (Some(cyl), _) => vec![2.0 * cyl.radius, cyl.length],
+        (_, Some(inlet)) => match (inlet.radius, inlet.size) {
+            (Some(r), _) => vec![2.0 * r],
+            (None, Some([a, b])) => vec![a, b],
+            // A face from a file: narrow or not, bodies that do not fit are reported.
+            (None, None) => Vec::new(),
+        },
+        _ => (0..3).map(|a| hi[a] - lo[a]).collect(),
     };
     if extent.iter().any(|&e| e < 2.0 * r_max) {
+        let narrow = match &i.inlet {
+            Some(inlet) if inlet.radius.is_some() => "inlet.radius",
+            Some(_) => "inlet.size",
+            None => "region_max",
+        };
         return Err(c.scene.error(
-            key("region_max"),
+            key(narrow),
             format!(
                 "the region {extent:?} m is narrower than one {one} {r_max} m on some axis: \
                  enlarge the region or use smaller bodies"
@@ -424,12 +547,21 @@ fn check_insertion_size(
     }
     let region = i.volume();
     let smallest = 4.0 / 3.0 * std::f64::consts::PI * r_min.powi(3);
-    let (count_key, most) = match (i.count, i.volume_fraction) {
+    let inlet_count = i
+        .inlet
+        .as_ref()
+        .map(|inlet| (inlet.rate * i.every.unwrap_or(0.0)).ceil() as usize);
+    let (count_key, most) = match (inlet_count.or(i.count), i.volume_fraction) {
         (Some(count), _) => {
+            let count_key = if i.inlet.is_some() {
+                "inlet.rate"
+            } else {
+                "count"
+            };
             let needed = count as f64 * smallest;
             if needed > DENSEST_PACKING * region {
                 return Err(c.scene.error(
-                    key("count"),
+                    key(count_key),
                     format!(
                         "{count} {many} ≥ {r_min} m take at least {needed:.3e} m³, more than \
                          fits in the region's {region:.3e} m³ (at most 74 % can be filled): \
@@ -437,7 +569,7 @@ fn check_insertion_size(
                     ),
                 ));
             }
-            ("count", count as f64)
+            (count_key, count as f64)
         }
         (None, Some(f)) => ("volume_fraction", (f * region / smallest).ceil()),
         (None, None) => unreachable!("checked above: count or volume_fraction is given"),

@@ -37,18 +37,28 @@ impl Scene {
         let from_regions = self.spec.insertions.iter().enumerate().flat_map(|(n, i)| {
             let (lo, hi) = i.bounds();
             let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
-            // The centre and the middles of the region's four upright quarters.
-            let points = [0.5, 0.25, 0.75]
+            // The centre and the middles of the region's four upright quarters; for an inlet,
+            // points of the layer it fills (its box may reach beyond it).
+            let points: Vec<DVec3> = match &i.inlet {
+                Some(inlet) => inlet
+                    .probe_points(i.inlet_depth())
+                    .into_iter()
+                    .map(DVec3::from)
+                    .collect(),
+                None => [0.5, 0.25, 0.75]
+                    .into_iter()
+                    .flat_map(|a| [0.25, 0.5, 0.75].into_iter().map(move |b| (a, b)))
+                    .map(|(a, b)| lo + (hi - lo) * DVec3::new(a, b, 0.5))
+                    .collect(),
+            };
+            let key = if i.inlet.is_some() {
+                "inlet"
+            } else {
+                "region_min"
+            };
+            points
                 .into_iter()
-                .flat_map(move |a| [0.25, 0.5, 0.75].into_iter().map(move |b| (a, b)));
-            points.map(move |(a, b)| {
-                let p = lo + (hi - lo) * DVec3::new(a, b, 0.5);
-                (
-                    p,
-                    KeyPath::entry("insert", n).key("region_min"),
-                    "bodies inserted",
-                )
-            })
+                .map(move |p| (p, KeyPath::entry("insert", n).key(key), "bodies inserted"))
         });
         for (point, key, what) in from_bodies.chain(from_regions) {
             if let Some((n, triangle, normal)) = back_landing(point, down, walls) {
