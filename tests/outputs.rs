@@ -208,3 +208,94 @@ fn the_body_fields_hold_the_bodies_values() {
         assert_eq!(face_speed.values[k], b.velocity[body].length());
     }
 }
+
+/// Issue #14: a run ends with a summary of what it did — steps, wall time and mean rate,
+/// bodies and contacts at the end, the energy ledger's closure in percent, and the files
+/// written — as `polydem run` prints it.
+#[test]
+fn a_run_ends_with_a_summary_of_what_it_did() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("drop.toml");
+    std::fs::write(
+        &file,
+        r#"
+[simulation]
+duration = 0.05
+gravity = [0.0, 0.0, -9.81]
+output_interval = 0.01
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e6
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "glass"
+[[particle]]
+radius = 0.005
+material = "glass"
+position = [0.0, 0.0, 0.006]
+"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_polydem"))
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8_lossy(&run.stdout);
+    let line = |head: &str| {
+        text.lines()
+            .find(|l| l.starts_with(head))
+            .unwrap_or_else(|| panic!("no '{head}' line in:\n{text}"))
+            .to_string()
+    };
+    // The sphere rests on the plane at the end: one body, one contact.
+    let done = line("done ");
+    assert!(
+        done.contains("particle-steps/s") && done.contains("(t = 0.05"),
+        "{done}"
+    );
+    assert!(done.contains("1 bodies, 1 contacts"), "{done}");
+    let energy = line("energy ");
+    let percent: f64 = energy
+        .split("closes to ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no percentage in: {energy}"));
+    assert!((0.0..1.0).contains(&percent), "{energy}");
+    // The files line counts what is on disk.
+    let files = line("files ");
+    let frames = std::fs::read_dir(&out)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "vtp")
+        })
+        .count();
+    assert!(
+        frames > 0 && files.contains(&format!("{frames} VTK files")),
+        "{files} ({frames})"
+    );
+    assert!(
+        files.contains("energy.csv") && files.contains("1 checkpoint,"),
+        "{files}"
+    );
+}

@@ -480,11 +480,12 @@ fn run(
         scene: Some(record),
         stop: Some(stop_on_signal()),
     };
+    let start = prepared.world.energy();
     let result = progress::show(|observe| {
         polydem::run::run_with(&mut prepared, &out, control, observe).map(|_| ())
     });
     let (_, summary) = result.map_err(|e| run_error(e, scene, &out))?;
-    summary.report(&prepared);
+    summary.report(&prepared, &start, &out);
     Ok(())
 }
 
@@ -497,7 +498,10 @@ fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
         polydem::run::resume(dir, &options, control, observe).map(|(prepared, _)| prepared)
     });
     let (prepared, summary) = result.map_err(|e| run_error(e, dir, dir))?;
-    summary.report(&prepared);
+    // The ledger at the run's start: the first row of its energy.csv.
+    let start =
+        progress::first_ledger(&dir.join("energy.csv")).unwrap_or_else(|| prepared.world.energy());
+    summary.report(&prepared, &start, dir);
     Ok(())
 }
 

@@ -3,9 +3,11 @@
 //! summary at the end.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polydem::energy::EnergyReport;
 use polydem::run::{RunError, RunEvent};
 use polydem::scene::Prepared;
 use std::collections::BTreeMap;
+use std::path::Path;
 use std::time::Instant;
 
 /// Insertions of one `[[insert]]` during the run.
@@ -30,18 +32,34 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// The closing lines: steps, time, throughput, bodies removed.
-    pub fn report(&self, prepared: &Prepared) {
+    /// The closing lines: steps, time, throughput, contacts, the ledger's closure since `start`
+    /// (the ledger when the run, or this resumed part of it, began), the files in `out`, bodies
+    /// removed and insertions.
+    pub fn report(&self, prepared: &Prepared, start: &EnergyReport, out: &Path) {
         let seconds = self.start.elapsed().as_secs_f64();
         let w = &prepared.world;
         println!(
             "done         {} steps in {seconds:.2} s: {:.3e} particle-steps/s (t = {:.6} s, \
-             {} bodies)",
+             {} bodies, {} contacts)",
             w.steps_done() - self.first_step,
             self.particle_steps / seconds.max(1e-9),
             w.time(),
-            w.bodies().len()
+            w.bodies().len(),
+            w.contacts()
+                .iter()
+                .filter(|c| c.report.normal_force > 0.0)
+                .count()
         );
+        let end = w.energy();
+        let moved = energy_moved(start, &end);
+        if moved > 0.0 {
+            println!(
+                "energy       the ledger closes to {:.3} % of the energy moved ({moved:.3e} J: \
+                 kinetic, elastic, potential released, dissipated, brought in and out)",
+                100.0 * (end.total() - start.total()).abs() / moved
+            );
+        }
+        println!("files        {}", files_written(out));
         if w.bodies_removed() > 0 {
             println!(
                 "             {} bodies left the domain and were removed",
@@ -140,4 +158,76 @@ pub fn show<T>(
     let result = go(&mut observe);
     bar.finish_and_clear();
     result.map(|r| (r, summary))
+}
+
+/// The energy a run moved between the ledgers `s` and `e`: the scale its closure is judged on.
+fn energy_moved(s: &EnergyReport, e: &EnergyReport) -> f64 {
+    s.kinetic_translational
+        + s.kinetic_rotational
+        + s.elastic
+        + e.kinetic_translational
+        + e.kinetic_rotational
+        + e.elastic
+        + (e.potential - s.potential).abs()
+        + (e.dissipated - s.dissipated).abs()
+        + (e.inserted - s.inserted).abs()
+        + (e.removed - s.removed).abs()
+        + (e.wall_work - s.wall_work).abs()
+        + (e.gravity_work - s.gravity_work).abs()
+}
+
+/// What the output folder holds, counted by kind: `"41 frames (particles.pvd, walls.pvd),
+/// energy.csv, wall_forces.csv, 2 checkpoints in output/x"`.
+fn files_written(out: &Path) -> String {
+    let names = |dir: &Path| -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .filter_map(|e| e.ok())
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect()
+            })
+            .unwrap_or_default();
+        names.sort();
+        names
+    };
+    let all = names(out);
+    let with = |ext: &str| -> Vec<&String> { all.iter().filter(|n| n.ends_with(ext)).collect() };
+    let series: Vec<&str> = with(".pvd").iter().map(|s| s.as_str()).collect();
+    let frames = all.iter().filter(|n| n.ends_with(".vtp")).count();
+    let csv: Vec<&str> = with(".csv").iter().map(|s| s.as_str()).collect();
+    let checkpoints = names(&out.join("checkpoints"))
+        .iter()
+        .filter(|n| n.ends_with(".ckpt"))
+        .count();
+    format!(
+        "{frames} VTK files in {} series ({}), {}, {checkpoints} checkpoint{}, in {}",
+        series.len(),
+        series.join(", "),
+        if csv.is_empty() {
+            "no CSV".to_string()
+        } else {
+            csv.join(", ")
+        },
+        if checkpoints == 1 { "" } else { "s" },
+        out.display()
+    )
+}
+
+/// The ledger of the first row of a run's `energy.csv` (its start), if it can be read.
+pub fn first_ledger(path: &Path) -> Option<EnergyReport> {
+    let table = polydem::io::csv_read::read_table(path).ok()?;
+    let value = |name: &str| table.column(name).and_then(|c| c.first().copied());
+    Some(EnergyReport {
+        kinetic_translational: value("kinetic_translational")?,
+        kinetic_rotational: value("kinetic_rotational")?,
+        potential: value("potential_gravity")?,
+        elastic: value("elastic")?,
+        dissipated: value("dissipated")?,
+        removed: value("removed")?,
+        inserted: value("inserted")?,
+        wall_work: value("wall_work")?,
+        gravity_work: value("gravity_work")?,
+        contacts: value("contacts")? as usize,
+    })
 }
