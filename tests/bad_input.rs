@@ -1051,3 +1051,30 @@ fn a_bead_bouncing_in_a_closed_box_runs_to_its_end() {
     let x = frames.last().unwrap().points[0].x;
     assert!(x.abs() < 0.045, "{x}");
 }
+
+/// Regression test of issue #12: a particle placed outside a closed inward-facing mesh box (or
+/// inside a solid block) was accepted, where a plane refuses the same. Now the start is refused,
+/// naming the particle's line, the wall and the side; the same bead inside the box is accepted.
+#[test]
+fn a_particle_outside_a_closed_container_is_refused() {
+    let outside =
+        THROUGH_THE_WALL.replace("position = [0.0, 0.0, 0.0]", "position = [0.2, 0.0, 0.0]");
+    refused(
+        Some(&outside),
+        &[
+            &at(&outside, "[[particle]]"),
+            "lies behind [[mesh_wall]] #1",
+            "outside the closed container it forms",
+        ],
+    );
+    let block = THROUGH_THE_WALL.replace("facing = \"inward\"", "facing = \"outward\"");
+    refused(
+        Some(&block),
+        &[
+            "lies behind [[mesh_wall]] #1",
+            "inside the solid its triangles enclose",
+        ],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    assert!(checked(dir.path(), THROUGH_THE_WALL).contains("scene is valid"));
+}

@@ -4,9 +4,7 @@
 //! for a long while (issue #12); the ledger shows it at once.
 
 use crate::energy::EnergyReport;
-use crate::geometry::bvh::Bvh;
-use crate::geometry::point_in_polyhedron::{locate_point_bvh, Location};
-use crate::math::DVec3;
+use crate::wall::SolidSide;
 use crate::World;
 
 /// The ledger total may drift by at most this fraction of the energy in play before the run is
@@ -100,19 +98,11 @@ pub struct WallSides {
     walls: Vec<ClosedWall>,
 }
 
-/// One closed mesh wall, in its reference placement (bodies are taken there by its pose).
+/// One closed mesh wall and its solid side.
 struct ClosedWall {
     /// The wall's index among the mesh walls.
     index: usize,
-    vertices: Vec<DVec3>,
-    triangles: Vec<[usize; 3]>,
-    bvh: Bvh,
-    /// Whether the solid side is inside the surface (triangles facing out: a solid block, a
-    /// screw's blade) or outside it (triangles facing in: a closed container). Decided by the
-    /// sign of the enclosed volume, so a container holding a block is right for both: a point
-    /// is on the solid side when its crossing parity says `Inside` for a net outward wall and
-    /// `Outside` for a net inward one.
-    solid_inside: bool,
+    side: SolidSide,
 }
 
 impl WallSides {
@@ -122,35 +112,7 @@ impl WallSides {
             .mesh_walls()
             .iter()
             .enumerate()
-            .filter(|(_, w)| w.is_closed())
-            .filter_map(|(index, w)| {
-                let vertices = w.vertices().to_vec();
-                let triangles: Vec<[usize; 3]> = w
-                    .triangles()
-                    .iter()
-                    .map(|t| t.map(|v| v as usize))
-                    .collect();
-                let volume: f64 = triangles
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(|v| vertices[v]);
-                        a.dot(b.cross(c)) / 6.0
-                    })
-                    .sum();
-                // A sheet wound both ways (a plate with a back) is closed but encloses nothing:
-                // its volume is rounding noise, and it has no solid side.
-                if !(volume.is_finite() && volume.abs() > 1e-9 * w.area().powf(1.5)) {
-                    return None;
-                }
-                let bvh = Bvh::new(&vertices, &triangles);
-                Some(ClosedWall {
-                    index,
-                    vertices,
-                    triangles,
-                    bvh,
-                    solid_inside: volume > 0.0,
-                })
-            })
+            .filter_map(|(index, w)| SolidSide::of(w).map(|side| ClosedWall { index, side }))
             .collect();
         Self { walls }
     }
@@ -167,28 +129,13 @@ impl WallSides {
         let b = world.bodies();
         for wall in &self.walls {
             let mesh = &world.mesh_walls()[wall.index];
-            let pose = mesh.pose();
-            let behind = (0..b.len()).find(|&i| {
-                let p = pose.to_reference(b.position[i]);
-                let solid = if wall.solid_inside {
-                    Location::Inside
-                } else {
-                    Location::Outside
-                };
-                // A non-finite centre is another check's business.
-                p.is_finite()
-                    && locate_point_bvh(p, &wall.vertices, &wall.triangles, &wall.bvh) == solid
-            });
+            let behind = (0..b.len()).find(|&i| wall.side.contains(mesh, b.position[i]));
             let Some(i) = behind else { continue };
             let name = names
                 .get(world.planes().len() + wall.index)
                 .map(|n| format!(" (\"{n}\" in wall_forces.csv)"))
                 .unwrap_or_default();
-            let side = if wall.solid_inside {
-                "inside the solid its triangles enclose"
-            } else {
-                "outside the closed container it forms"
-            };
+            let side = wall.side.describe();
             let p = b.position[i];
             return Some(format!(
                 "the run blew up at t = {:.6e} s (step {}): the centre of body {} is at \

@@ -384,6 +384,7 @@ impl Scene {
         let overlapping = self.check_initial_overlaps(&bodies, &planes)?;
         // Sides first: a body behind a wall also overlaps it, and the side is the fault.
         self.check_mesh_wall_sides(&bodies, &mesh_walls, self.falling_direction())?;
+        self.check_bodies_behind_closed_walls(&bodies, &mesh_walls)?;
         self.check_mesh_wall_overlaps(&bodies, &mesh_walls)?;
         let mut schedule = Vec::new();
         for (index, i) in spec.insertions.iter().enumerate() {

@@ -8,7 +8,7 @@
 use super::{KeyPath, Scene, SceneError};
 use crate::body::BodyInit;
 use crate::math::DVec3;
-use crate::wall::MeshWall;
+use crate::wall::{MeshWall, SolidSide};
 
 /// At most this many bodies placed at the start are tried (evenly spread over them): enough to
 /// catch a wall facing the wrong way under a bed, cheap for a bed of 10⁶.
@@ -74,6 +74,38 @@ impl Scene {
                         point.to_array(),
                         n + 1,
                         normal.to_array()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Scene {
+    /// Refuses a start with a body on the solid side of a closed mesh wall — outside a closed
+    /// container, inside a block — as a plane refuses a body behind it (issue #12: such a body
+    /// was accepted, and shot out at the first contact).
+    pub(super) fn check_bodies_behind_closed_walls(
+        &self,
+        bodies: &[(BodyInit, KeyPath)],
+        walls: &[MeshWall],
+    ) -> Result<(), SceneError> {
+        for (n, wall) in walls.iter().enumerate() {
+            let Some(side) = SolidSide::of(wall) else {
+                continue;
+            };
+            if let Some((b, key)) = bodies.iter().find(|(b, _)| side.contains(wall, b.position)) {
+                return Err(self.error(
+                    key.clone(),
+                    format!(
+                        "the particle at {:?} lies behind [[mesh_wall]] #{}: {}, where no body \
+                         can be; move it to the open side (or, if the wall faces the wrong way, \
+                         reverse its winding: `flip = true` on a mesh file, `facing` on a \
+                         generated wall)",
+                        b.position.to_array(),
+                        n + 1,
+                        side.describe()
                     ),
                 ));
             }
