@@ -261,41 +261,9 @@ mod tests {
 
     #[test]
     fn a_body_faster_than_the_limit_is_named() {
-        let material = Material {
-            name: "m".into(),
-            density: 1000.0,
-            youngs_modulus: 1e6,
-            poisson_ratio: 0.3,
-            restitution: 0.5,
-            friction: 0.5,
-            rolling_friction: 0.0,
-        };
-        let laws = PairTable::new(
-            std::slice::from_ref(&material),
-            crate::contact_law::NormalLaw::Hertz,
-            1.0,
-            &[],
-        );
-        let mut world = World::new(WorldConfig {
-            time_step: 1e-5,
-            gravity: DVec3::ZERO,
-            materials: vec![material],
-            pair_laws: laws,
-            planes: Vec::new(),
-            broad_phase: Default::default(),
-            skin: None,
-            threads: 1,
-        })
-        .unwrap();
-        for (k, speed) in [1.0, 30.0].into_iter().enumerate() {
-            world.add_body(BodyInit {
-                shape: Shape::Sphere(Sphere::new(0.01)),
-                material: 0,
-                position: DVec3::Y * k as f64,
-                orientation: crate::math::DQuat::IDENTITY,
-                velocity: DVec3::X * speed,
-                angular_velocity: DVec3::ZERO,
-            });
+        let mut world = world_with(Vec::new(), &[DVec3::ZERO, DVec3::Y]);
+        for (v, speed) in world.bodies_mut().velocity.iter_mut().zip([1.0, 30.0]) {
+            *v = DVec3::X * speed;
         }
         assert!(too_fast(&world, 40.0).is_none());
         let why = too_fast(&world, 20.0).unwrap();
