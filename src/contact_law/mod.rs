@@ -93,6 +93,29 @@ pub struct Kinematics {
     pub effective_mass: f64,
     /// For contacts of polyhedra under the volume law: the overlap volume and contact area.
     pub overlap_volume: Option<OverlapVolume>,
+    /// The masses a push at the contact point moves, along the normal and (at most) along the
+    /// tangent [kg]: 1/m = Σ 1/m_i + (r_i × d)·I_i⁻¹(r_i × d) over the bodies, r_i the arm. For
+    /// two spheres m* and 2/7 m*; at a polyhedron's corner the body turns as well, and the mass
+    /// is smaller. The dashpots are bounded on these ([`DASHPOT_BOUND`]).
+    pub dashpot_mass: DashpotMass,
+}
+
+/// See [`Kinematics::dashpot_mass`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DashpotMass {
+    pub normal: f64,
+    pub tangential: f64,
+}
+
+impl DashpotMass {
+    /// Two solid spheres (or a sphere on a wall) of effective mass `m`: the normal push moves
+    /// m, a tangential one m/(1 + m R²/I) = 2/7 m.
+    pub fn of_spheres(m: f64) -> Self {
+        Self {
+            normal: m,
+            tangential: TANGENTIAL_MASS_SHARE * m,
+        }
+    }
 }
 
 /// Which law polyhedral contacts use (scene: `[contact] polyhedra`).
@@ -212,7 +235,7 @@ pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: 
         normal::elastic(law, k.overlap, k.effective_radius);
     let damping_coefficient = normal::bounded_dashpot(
         law.damping * (k.effective_mass * stiffness).sqrt(),
-        k.effective_mass,
+        k.dashpot_mass.normal,
         dt,
     );
     let n = normal::NormalForce {

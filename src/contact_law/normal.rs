@@ -118,7 +118,7 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
         };
     let damping_coefficient = bounded_dashpot(
         c * (k.effective_mass * stiffness).sqrt(),
-        k.effective_mass,
+        k.dashpot_mass.normal,
         dt,
     );
     let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);

@@ -67,7 +67,7 @@ pub fn tangential_force(
     // Held, as the normal one, to what the step can take, on the tangential share of m*.
     let gamma = super::normal::bounded_dashpot(
         normal.damping_coefficient * ratio,
-        super::TANGENTIAL_MASS_SHARE * k.effective_mass,
+        k.dashpot_mass.tangential,
         dt,
     );
     let damping = -gamma * k.tangential_velocity_end;
@@ -155,6 +155,7 @@ mod tests {
             effective_radius: 1e-3,
             effective_mass: 1e-5,
             overlap_volume: None,
+            dashpot_mass: crate::contact_law::DashpotMass::of_spheres(1e-5),
         }
     }
 
@@ -167,7 +168,7 @@ mod tests {
         let kt = stiffness(&law, &n, k);
         let gamma = crate::contact_law::normal::bounded_dashpot(
             n.damping_coefficient * law.tangential_damping_ratio,
-            crate::contact_law::TANGENTIAL_MASS_SHARE * k.effective_mass,
+            k.dashpot_mass.tangential,
             dt,
         );
         let trial_xi =

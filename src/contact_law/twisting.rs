@@ -41,7 +41,7 @@ pub fn twisting_torque(
     // The tangential dashpot held to what the step can take, as in `tangential_force`.
     let gamma = super::normal::bounded_dashpot(
         law.damping_volume * (k.effective_mass * tangential_stiffness).sqrt(),
-        super::TANGENTIAL_MASS_SHARE * k.effective_mass,
+        k.dashpot_mass.tangential,
         dt,
     ) * 0.5
         * radius

@@ -7,7 +7,9 @@ use crate::body::Bodies;
 use crate::contact::{
     ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, PairKind, Partner,
 };
-use crate::contact_law::{self, History, Kinematics, OverlapVolume, Response, SpinHistory};
+use crate::contact_law::{
+    self, DashpotMass, History, Kinematics, OverlapVolume, Response, SpinHistory,
+};
 use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
@@ -117,7 +119,7 @@ impl LawInputs<'_> {
                 (v, v_end, omega, material, b.equivalent_radius[a], b.mass[a])
             }
         };
-        let k = kinematics(
+        let mut k = kinematics(
             g,
             volume,
             va - vb,
@@ -126,6 +128,11 @@ impl LawInputs<'_> {
             effective_radius,
             effective_mass,
         );
+        // Two spheres keep m* and 2/7 m*, as on the fast path (`step::spheres`), to the bit.
+        if kind != PairKind::Spheres {
+            let partner = key.partner.body().map(|j| j as usize);
+            k.dashpot_mass = dashpot_mass(b, a, partner, g.point, g.normal);
+        }
         let law = self.laws.get(b.material[a], material);
         contact_law::evaluate(law, &k, history, spin, dt)
     }
@@ -276,5 +283,32 @@ pub(crate) fn kinematics(
         effective_radius,
         effective_mass,
         overlap_volume: volume,
+        dashpot_mass: DashpotMass::of_spheres(effective_mass),
+    }
+}
+
+/// The masses a push at `point` along `normal` (and at most along a tangent) moves, for body `a`
+/// and its partner `b` (`None`: a wall, which does not move): see `Kinematics::dashpot_mass`.
+fn dashpot_mass(
+    bodies: &Bodies,
+    a: usize,
+    b: Option<usize>,
+    point: DVec3,
+    normal: DVec3,
+) -> DashpotMass {
+    let (mut normal_compliance, mut tangential_compliance) = (0.0, 0.0);
+    for i in std::iter::once(a).chain(b) {
+        let arm = point - bodies.position[i];
+        let inv_inertia = bodies.inv_inertia[i];
+        // (r × n)·I⁻¹(r × n), with I⁻¹ diagonal in the body's frame.
+        let turn = bodies.orientation[i].inverse() * arm.cross(normal);
+        normal_compliance += bodies.inv_mass[i] + (turn * turn).dot(inv_inertia);
+        // Along the worst tangent: |r|² times the largest inverse principal moment.
+        tangential_compliance +=
+            bodies.inv_mass[i] + arm.length_squared() * inv_inertia.max_element();
+    }
+    DashpotMass {
+        normal: 1.0 / normal_compliance,
+        tangential: 1.0 / tangential_compliance,
     }
 }
