@@ -14,6 +14,7 @@ use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
+use crate::step::sphere_lanes;
 use crate::step::spheres::{self, EntryOut};
 use crate::step::Scene;
 use crate::wall::WallState;
@@ -34,7 +35,7 @@ pub struct LawInputs<'a> {
 impl EntryState<'_> {
     /// What the step writes of entry `k`.
     #[inline(always)]
-    fn entry(&mut self, k: usize) -> EntryOut<'_> {
+    pub(crate) fn entry(&mut self, k: usize) -> EntryOut<'_> {
         EntryOut {
             touching: &mut self.touching[k],
             geometry: &mut self.geometry[k],
@@ -142,10 +143,20 @@ impl LawInputs<'_> {
 /// (sphere pairs find their contact here too, see [`spheres`](super::spheres)). A contact that
 /// ended forgets its history; the energy its springs held is its report's `dissipated`.
 pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) {
+    // Touching sphere pairs go through the four-wide kernel in groups of four.
+    let mut group = sphere_lanes::Group::default();
+    // Without spin histories no law of the world has rolling friction.
+    let rolling = !state.spin.is_empty();
     for k in 0..ids.key.len() {
         let key = ids.key[k];
         if ids.kind[k] == PairKind::Spheres {
-            spheres::sphere_pair(&inputs, key, state.entry(k), dt);
+            if !spheres::overlaps(&inputs, key) {
+                spheres::apart(state.entry(k));
+            } else if rolling && spheres::law(&inputs, key).rolling_friction > 0.0 {
+                spheres::touching_pair(&inputs, key, state.entry(k), dt);
+            } else if let Some(four) = group.push(k) {
+                sphere_lanes::touching_pairs(&inputs, ids, state, four, dt);
+            }
             continue;
         }
         let history = &mut state.history[k];
@@ -166,6 +177,9 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
         let centre_a = inputs.motion[key.a as usize].position;
         state.load[k] = Load::new(&r, state.geometry[k].point, centre_a, centre_b);
         state.report[k] = LawReport::of(&r);
+    }
+    for &k in group.rest() {
+        spheres::touching_pair(&inputs, ids.key[k], state.entry(k), dt);
     }
 }
 

@@ -14,7 +14,9 @@
 pub mod candidates;
 pub mod detect;
 pub mod forces;
+pub mod lanes;
 pub mod space_order;
+pub mod sphere_lanes;
 pub mod spheres;
 pub mod timing;
 pub mod wall_loads;

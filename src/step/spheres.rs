@@ -8,7 +8,7 @@
 
 use super::forces::{ended, kinematics, LawInputs};
 use crate::contact::{ContactKey, LawReport, Load};
-use crate::contact_law::{self, History, SpinHistory};
+use crate::contact_law::{self, History, PairLaw, SpinHistory};
 use crate::narrow_phase::{self, ContactPoint};
 
 /// What the step writes of one entry.
@@ -22,7 +22,9 @@ pub(crate) struct EntryOut<'a> {
     pub report: &'a mut LawReport,
 }
 
-/// Contact and response of the sphere pair `key` (its partner a body) over the step `dt`.
+/// Contact and response of the sphere pair `key` (its partner a body) over the step `dt`: the
+/// scalar path whole, which the tests hold against the general path and the four-wide kernel.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn sphere_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
     if overlaps(inputs, key) {
@@ -46,13 +48,21 @@ pub(crate) fn effective_radius_and_mass(radius: (f64, f64), mass: (f64, f64)) ->
 
 /// The two bodies of `key`.
 #[inline(always)]
-fn bodies(key: ContactKey) -> (usize, usize) {
+pub(crate) fn bodies(key: ContactKey) -> (usize, usize) {
     (key.a as usize, key.partner.body().unwrap_or(0) as usize)
+}
+
+/// The contact law of the sphere pair `key`.
+#[inline(always)]
+pub(crate) fn law<'a>(inputs: &LawInputs<'a>, key: ContactKey) -> &'a PairLaw {
+    let (a, j) = bodies(key);
+    let material = &inputs.scene.bodies.material;
+    inputs.laws.get(material[a], material[j])
 }
 
 /// Whether the sphere pair `key` overlaps (the narrow phase's test).
 #[inline(always)]
-fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
+pub(crate) fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
     let (a, j) = bodies(key);
     let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
     let reach = ma.radius + mb.radius;
@@ -63,7 +73,7 @@ fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
 
 /// A sphere pair that does not touch: no load, and a history it had is dropped.
 #[inline(always)]
-fn apart(out: EntryOut) {
+pub(crate) fn apart(out: EntryOut) {
     *out.touching = false;
     let r = ended(out.history, out.spin);
     *out.load = Load::default();
@@ -72,7 +82,7 @@ fn apart(out: EntryOut) {
 
 /// Contact and response of the sphere pair `key`, which [`overlaps`], over the step `dt`.
 #[inline(always)]
-fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
+pub(crate) fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
     let (a, j) = bodies(key);
     let (ma, mb) = (&inputs.motion[a], &inputs.motion[j]);
     let g = narrow_phase::overlapping_spheres(ma.position, ma.radius, mb.position, mb.radius);
@@ -95,7 +105,7 @@ fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
         effective_radius,
         effective_mass,
     );
-    let law = inputs.laws.get(bodies.material[a], bodies.material[j]);
+    let law = law(inputs, key);
     let r = if law.rolling_friction > 0.0 {
         debug_assert!(
             out.spin.is_some(),

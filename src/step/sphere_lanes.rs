@@ -1,0 +1,489 @@
+//! Four touching sphere pairs at once: the sphere fast path (`step::spheres`) in four lanes.
+//!
+//! Most of a granular run's time goes into sphere contacts, and their arithmetic is a long chain
+//! of dependent operations (three square roots and two divisions among them) that one contact at
+//! a time leaves the floating-point units idle waiting on. Four contacts side by side in [`F4`]
+//! lanes fill them: the contact loop gathers the touching sphere pairs of a chunk four by four,
+//! runs this kernel, and scatters the results into the store; what is left over (fewer than four)
+//! goes through the scalar path.
+//!
+//! Each lane is the scalar path's arithmetic, operation for operation and in the same order
+//! (`narrow_phase::overlapping_spheres`, `step::forces::kinematics`,
+//! `contact_law::evaluate_point` with `normal::elastic`, `tangential::tangential_force` and
+//! `book_dampers`, then `Load::new`); branches become lane selects of both sides. So it gives the
+//! same bits, which a property test below holds, and results stay the same whichever entries
+//! happen to share a group, for any thread count and on any machine.
+
+use super::forces::LawInputs;
+use super::lanes::{F4, M4, V3};
+use super::spheres;
+use crate::contact::{EntryIds, EntryState, LawReport, Load};
+use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
+use crate::math::DVec3;
+use crate::narrow_phase::ContactPoint;
+
+/// Entries waiting to go through the kernel together.
+#[derive(Default)]
+pub(crate) struct Group {
+    entries: [usize; 4],
+    len: usize,
+}
+
+impl Group {
+    /// Adds entry `k`; returns the four entries once the group is full (and empties it).
+    #[inline(always)]
+    pub fn push(&mut self, k: usize) -> Option<[usize; 4]> {
+        self.entries[self.len] = k;
+        self.len += 1;
+        (self.len == 4).then(|| {
+            self.len = 0;
+            self.entries
+        })
+    }
+
+    /// The entries left when the run of entries ends.
+    pub fn rest(&self) -> &[usize] {
+        &self.entries[..self.len]
+    }
+}
+
+/// Contact and response of the four touching sphere pairs `entries` (their partners bodies,
+/// their laws without rolling friction) over the step `dt`: four at once where the CPU can, one
+/// by one through the scalar path (the same numbers) where it cannot.
+#[inline]
+pub(crate) fn touching_pairs(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX, which is all `with_avx` is compiled for.
+        unsafe { with_avx(inputs, ids, state, entries, dt) };
+    } else {
+        for k in entries {
+            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    kernel(inputs, ids, state, entries, dt);
+}
+
+/// [`kernel`] compiled for AVX, whose 256-bit registers hold an [`F4`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn with_avx(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    kernel(inputs, ids, state, entries, dt);
+}
+
+/// The law's numbers of the four lanes.
+struct Laws {
+    hertz: M4,
+    /// E* under Hertz; the spring's stiffness under the linear law.
+    youngs_modulus: F4,
+    linear_stiffness: F4,
+    shear_modulus: F4,
+    damping: F4,
+    tangential_damping_ratio: F4,
+    tangential_stiffness_ratio: F4,
+    friction: F4,
+}
+
+impl Laws {
+    #[inline(always)]
+    fn gather(law: [&PairLaw; 4]) -> Self {
+        let lanes = |f: fn(&PairLaw) -> f64| F4::new(std::array::from_fn(|i| f(law[i])));
+        let is_hertz = |l: &PairLaw| {
+            if l.normal == NormalLaw::Hertz {
+                1.0
+            } else {
+                0.0
+            }
+        };
+        Laws {
+            hertz: lanes(is_hertz).gt(F4::splat(0.0)),
+            youngs_modulus: lanes(|l| l.effective_youngs_modulus),
+            linear_stiffness: lanes(|l| match l.normal {
+                NormalLaw::Linear { stiffness } => stiffness,
+                NormalLaw::Hertz => 0.0,
+            }),
+            shear_modulus: lanes(|l| l.effective_shear_modulus),
+            damping: lanes(|l| l.damping),
+            tangential_damping_ratio: lanes(|l| l.tangential_damping_ratio),
+            tangential_stiffness_ratio: lanes(|l| l.tangential_stiffness_ratio),
+            friction: lanes(|l| l.friction),
+        }
+    }
+}
+
+/// As `tangential::rotate_into_plane`, lane by lane.
+#[inline(always)]
+fn rotate_into_plane(v: V3, n: V3) -> V3 {
+    let zero = F4::splat(0.0);
+    let length_squared = v.length_squared();
+    let projected = v - n.scale(n.dot(v));
+    let projected_squared = projected.length_squared();
+    let rotated = projected.scale((length_squared / projected_squared).sqrt());
+    let rotated = V3::select(projected_squared.eq(zero), V3::zero(), rotated);
+    V3::select(length_squared.eq(zero), v, rotated)
+}
+
+#[inline(always)]
+fn kernel(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    let bodies = inputs.scene.bodies;
+    let pair: [(usize, usize); 4] = std::array::from_fn(|i| spheres::bodies(ids.key[entries[i]]));
+    let (motion, mass) = (inputs.motion, &bodies.mass);
+    let a = |i: usize| &motion[pair[i].0];
+    let b = |i: usize| &motion[pair[i].1];
+    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(std::array::from_fn(f));
+    let (xa, xb) = (V3::gather(|i| a(i).position), V3::gather(|i| b(i).position));
+    let (ra, rb) = (scalars(&|i| a(i).radius), scalars(&|i| b(i).radius));
+    let law = Laws::gather(std::array::from_fn(|i| {
+        let (p, q) = pair[i];
+        inputs.laws.get(bodies.material[p], bodies.material[q])
+    }));
+    let history: [&History; 4] = std::array::from_fn(|i| &state.history[entries[i]]);
+    let old_spring = V3::gather(|i| history[i].tangential_spring);
+    let old_kt = scalars(&|i| history[i].tangential_stiffness);
+    let previous_damper = V3::gather(|i| history[i].damper_force.as_dvec3());
+    let (zero, half, dt4) = (F4::splat(0.0), F4::splat(0.5), F4::splat(dt));
+
+    // The narrow phase (narrow_phase::overlapping_spheres).
+    let d = xa - xb;
+    let distance = d.length_squared().sqrt();
+    let normal = V3::select(
+        distance.gt(zero),
+        d.scale(F4::splat(1.0) / distance),
+        V3::splat(DVec3::Z),
+    );
+    let overlap = ra + rb - distance;
+    let point = xb + normal.scale(rb - half * overlap);
+
+    // The contact points' velocities over the step and at its end (spheres::touching_pair).
+    let (arm_a, arm_b) = (point - xa, point - xb);
+    let va = V3::gather(|i| a(i).velocity) + V3::gather(|i| a(i).angular_velocity).cross(arm_a);
+    let va_end =
+        V3::gather(|i| a(i).velocity_end) + V3::gather(|i| a(i).angular_velocity_end).cross(arm_a);
+    let vb = V3::gather(|i| b(i).velocity) + V3::gather(|i| b(i).angular_velocity).cross(arm_b);
+    let vb_end =
+        V3::gather(|i| b(i).velocity_end) + V3::gather(|i| b(i).angular_velocity_end).cross(arm_b);
+    // R* and m* with one division (spheres::effective_radius_and_mass).
+    let (mass_a, mass_b) = (scalars(&|i| mass[pair[i].0]), scalars(&|i| mass[pair[i].1]));
+    let (radius_sum, mass_sum) = (ra + rb, mass_a + mass_b);
+    let inverse = F4::splat(1.0) / (radius_sum * mass_sum);
+    let effective_radius = ra * rb * mass_sum * inverse;
+    let effective_mass = mass_a * mass_b * radius_sum * inverse;
+
+    // Kinematics (forces::kinematics).
+    let (relative, relative_end) = (va - vb, va_end - vb_end);
+    let (normal_speed, normal_speed_end) = (relative.dot(normal), relative_end.dot(normal));
+    let overlap_rate = -normal_speed_end;
+    let tangential_velocity = relative - normal.scale(normal_speed);
+    let tangential_velocity_end = relative_end - normal.scale(normal_speed_end);
+    let velocity_start = relative.scale(F4::splat(2.0)) - relative_end;
+    let tangential_mass = F4::splat(TANGENTIAL_MASS_SHARE) * effective_mass;
+
+    // The normal law (normal::elastic, normal::bounded_dashpot).
+    let bound = F4::splat(1.0 / dt);
+    let bounded = |gamma: F4, mass: F4| gamma.min(F4::splat(DASHPOT_BOUND) * mass * bound);
+    let contact_radius = (effective_radius * overlap).sqrt();
+    let (e, k) = (law.youngs_modulus, law.linear_stiffness);
+    let elastic = F4::select(
+        law.hertz,
+        F4::splat(4.0 / 3.0) * e * overlap * contact_radius,
+        k * overlap,
+    );
+    let stiffness = F4::select(law.hertz, F4::splat(2.0) * e * contact_radius, k);
+    let elastic_energy = F4::select(
+        law.hertz,
+        F4::splat(8.0 / 15.0) * e * overlap * overlap * contact_radius,
+        half * k * overlap * overlap,
+    );
+    let contact_radius = F4::select(law.hertz, contact_radius, zero);
+    let damping_coefficient = bounded(
+        law.damping * (effective_mass * stiffness).sqrt(),
+        effective_mass,
+    );
+    let total = (elastic + damping_coefficient * overlap_rate).max(zero);
+
+    // The tangential law (tangential::tangential_force).
+    let kt = F4::select(
+        law.hertz,
+        F4::splat(8.0) * law.shear_modulus * contact_radius,
+        law.tangential_stiffness_ratio * stiffness,
+    );
+    let frictionless = kt.le(zero) | law.friction.le(zero);
+    let old_xi = rotate_into_plane(old_spring, normal);
+    let gamma = bounded(
+        damping_coefficient * law.tangential_damping_ratio,
+        tangential_mass,
+    );
+    let damping = tangential_velocity_end.scale(-gamma);
+    let trial_xi = old_xi + tangential_velocity.scale(dt4);
+    let trial = trial_xi.scale(-kt) + damping;
+    let limit = law.friction * total;
+    let trial_squared = trial.length_squared();
+    let sticks = trial_squared.le(limit * limit);
+    let sliding = trial.scale(limit / trial_squared.sqrt());
+    let force_t = V3::select(sticks, trial, sliding);
+    let xi = V3::select(sticks, trial_xi, sliding.scale(F4::splat(-1.0) / kt));
+    let damper_t = V3::select(sticks, damping, V3::zero());
+    let elastic_t = half * kt * xi.length_squared();
+    let spring_work = half * (old_xi.scale(old_kt) + xi.scale(kt)).dot(tangential_velocity) * dt4;
+    let old_energy = half * old_kt * old_xi.length_squared();
+    let dissipated_t = spring_work - (elastic_t - old_energy);
+    // Without friction or stiffness there is no tangential force, and the spring is let go.
+    let force_t = V3::select(frictionless, V3::zero(), force_t);
+    let damper_t = V3::select(frictionless, V3::zero(), damper_t);
+    let elastic_t = F4::select(frictionless, zero, elastic_t);
+    let dissipated_t = F4::select(frictionless, zero, dissipated_t);
+    let xi = V3::select(frictionless, V3::zero(), xi);
+    let kt = F4::select(frictionless, old_kt, kt);
+
+    // The dashpots' work of the last step and this step's (contact_law::book_dampers).
+    let damper_work = -previous_damper.dot(velocity_start) * dt4;
+    let normal_damper = total - elastic;
+    let damper_force = normal.scale(normal_damper) + damper_t;
+    let damper_estimate =
+        (normal_damper * overlap_rate - damper_t.dot(tangential_velocity_end)) * dt4;
+
+    // The response (evaluate_point) and the load (Load::new).
+    let force = normal.scale(total) + force_t;
+    let elastic_energy = elastic_energy + elastic_t;
+    let dissipated = damper_work + dissipated_t + zero;
+    let torque_a = arm_a.cross(force) + V3::zero();
+    let torque_b = -(arm_b.cross(force) + V3::zero());
+
+    let (normal, point, xi) = (normal.lanes(), point.lanes(), xi.lanes());
+    let (damper_force, force) = (damper_force.lanes(), force.lanes());
+    let (torque_a, torque_b) = (torque_a.lanes(), torque_b.lanes());
+    let (overlap, kt, damper_estimate) = (
+        overlap.to_array(),
+        kt.to_array(),
+        damper_estimate.to_array(),
+    );
+    let (total, elastic_energy, dissipated) = (
+        total.to_array(),
+        elastic_energy.to_array(),
+        dissipated.to_array(),
+    );
+    for (i, &k) in entries.iter().enumerate() {
+        state.touching[k] = true;
+        state.geometry[k] = ContactPoint {
+            normal: normal[i],
+            point: point[i],
+            overlap: overlap[i],
+        };
+        state.history[k] = History {
+            tangential_spring: xi[i],
+            tangential_stiffness: kt[i],
+            damper_force: damper_force[i].as_vec3(),
+            damper_work_estimate: damper_estimate[i] as f32,
+        };
+        state.load[k] = Load {
+            force: force[i],
+            torque_a: torque_a[i],
+            torque_b: torque_b[i],
+        };
+        state.report[k] = LawReport {
+            normal_force: total[i],
+            elastic_energy: elastic_energy[i],
+            dissipated: dissipated[i],
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::{Bodies, BodyInit};
+    use crate::contact::{ContactKey, PairKind, Partner};
+    use crate::contact_law::{NormalLaw, SpinHistory};
+    use crate::integrate::BodyMotion;
+    use crate::material::{Material, PairTable};
+    use crate::math::DQuat;
+    use crate::shape::{Shape, Sphere};
+    use crate::step::Scene;
+    use glam::Vec3;
+    use proptest::prelude::*;
+
+    fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
+        (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+    }
+
+    /// Two materials (so lanes mix laws), both normal laws, without and with friction; made
+    /// once, as the restitution's damping is found by integrating a collision.
+    fn tables() -> &'static [PairTable] {
+        static TABLES: std::sync::OnceLock<Vec<PairTable>> = std::sync::OnceLock::new();
+        TABLES.get_or_init(|| {
+            (0..4)
+                .map(|k| {
+                    let material = |name: &str, restitution: f64, friction: f64| Material {
+                        name: name.into(),
+                        density: 2500.0,
+                        youngs_modulus: 5e6,
+                        poisson_ratio: 0.25,
+                        restitution,
+                        friction: if k & 2 != 0 { friction } else { 0.0 },
+                        rolling_friction: 0.0,
+                    };
+                    let normal = if k & 1 != 0 {
+                        NormalLaw::Hertz
+                    } else {
+                        NormalLaw::Linear { stiffness: 1e3 }
+                    };
+                    let materials = [material("a", 0.3, 0.4), material("b", 0.0, 0.7)];
+                    PairTable::new(&materials, normal, 2.0 / 7.0, &[])
+                })
+                .collect()
+        })
+    }
+
+    /// One pair's setup: radii, direction and overlap, the bodies' motions, the materials, and
+    /// the history it starts from (a spring, a stiffness, a dashpot force).
+    type Pair = (
+        f64,
+        f64,
+        DVec3,
+        f64,
+        [DVec3; 4],
+        [DVec3; 4],
+        (u32, u32),
+        DVec3,
+        f64,
+    );
+
+    fn pair() -> impl Strategy<Value = Pair> {
+        (
+            0.5e-3..2e-3f64,
+            0.5e-3..2e-3f64,
+            vec3(1.0).prop_filter("a direction", |d| d.length() > 1e-3),
+            0.6..0.999f64,
+            prop::array::uniform4(vec3(0.1)),
+            prop::array::uniform4(vec3(0.01)),
+            (0..2u32, 0..2u32),
+            // Springs from none to far past the Coulomb limit.
+            prop_oneof![Just(DVec3::ZERO), vec3(1e-6), vec3(1e-4)],
+            prop_oneof![Just(0.0), 1.0..1e4f64],
+        )
+    }
+
+    proptest! {
+        /// The four-wide kernel gives each lane exactly what the scalar path gives that pair:
+        /// geometry, load, report and history, to the bit, for both normal laws, lanes of mixed
+        /// materials, with and without friction, sticking and sliding.
+        #[test]
+        fn four_lanes_are_the_scalar_path_to_the_bit(
+            pairs in prop::array::uniform4(pair()),
+            law in 0..4usize,
+            dt in 1e-6..1e-4f64,
+        ) {
+            let laws = &tables()[law];
+            let (mut bodies, mut shapes, mut motion) = (Bodies::default(), Vec::new(), Vec::new());
+            let mut start = Vec::new();
+            for (p, &(ra, rb, direction, gap, v, end, (ma, mb), spring, kt)) in pairs.iter().enumerate() {
+                let xa = DVec3::new(0.01, 0.02, 0.03) * (p as f64 + 1.0);
+                let xb = xa + direction.normalize() * gap * (ra + rb);
+                for (side, (r, x, material)) in [(ra, xa, ma), (rb, xb, mb)].into_iter().enumerate() {
+                    let i = bodies.len();
+                    shapes.push(Shape::Sphere(Sphere { radius: r }));
+                    let init = BodyInit {
+                        shape: shapes[i].clone(),
+                        material,
+                        position: x,
+                        orientation: DQuat::IDENTITY,
+                        velocity: DVec3::ZERO,
+                        angular_velocity: DVec3::ZERO,
+                    };
+                    let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+                    let inertia = DVec3::splat(0.4 * mass * r * r);
+                    bodies.push(i as u64, i as u32, material, r, r, mass, inertia, &init);
+                    motion.push(BodyMotion {
+                        position: x,
+                        velocity: v[2 * side],
+                        angular_velocity: v[2 * side + 1] * 100.0,
+                        velocity_end: v[2 * side] + end[2 * side],
+                        angular_velocity_end: (v[2 * side + 1] + end[2 * side + 1]) * 100.0,
+                        radius: r,
+                    });
+                }
+                start.push(History {
+                    tangential_spring: spring,
+                    tangential_stiffness: kt,
+                    damper_force: (spring * 1e4).as_vec3() + Vec3::X * 1e-3,
+                    damper_work_estimate: 1e-7,
+                });
+            }
+            let inputs = LawInputs {
+                scene: Scene {
+                    bodies: &bodies,
+                    shapes: &shapes,
+                    planes: &[],
+                    walls: &[],
+                    law: Default::default(),
+                },
+                wall_states: &[],
+                laws,
+                motion: &motion,
+            };
+            let key: Vec<ContactKey> = (0..4)
+                .map(|p| ContactKey { a: 2 * p, partner: Partner::Body(2 * p + 1), region: 0 })
+                .collect();
+            let kind = [PairKind::Spheres; 4];
+            let ids = EntryIds { key: &key, kind: &kind };
+            // Both paths, each on its own copy of the store's four entries.
+            let run = |four_wide: bool| {
+                let (mut touching, mut geometry) = ([false; 4], [ContactPoint::default(); 4]);
+                let mut history: [History; 4] = std::array::from_fn(|p| start[p]);
+                let (mut load, mut report) = ([Load::default(); 4], [LawReport::default(); 4]);
+                let mut spin: [SpinHistory; 0] = [];
+                let mut state = EntryState {
+                    touching: &mut touching,
+                    geometry: &mut geometry,
+                    volume: &mut [],
+                    history: &mut history,
+                    spin: &mut spin,
+                    load: &mut load,
+                    report: &mut report,
+                };
+                for (k, &key) in key.iter().enumerate() {
+                    assert!(spheres::overlaps(&inputs, key), "pair {k} must touch");
+                }
+                if four_wide {
+                    #[cfg(target_arch = "x86_64")]
+                    {
+                        if !std::arch::is_x86_feature_detected!("avx") {
+                            println!("no AVX here: the kernel is not used on this CPU");
+                        } else {
+                            // SAFETY: the CPU has AVX.
+                            unsafe { with_avx(&inputs, &ids, &mut state, [0, 1, 2, 3], dt) };
+                        }
+                    }
+                    #[cfg(not(target_arch = "x86_64"))]
+                    kernel(&inputs, &ids, &mut state, [0, 1, 2, 3], dt);
+                } else {
+                    for (k, &key) in key.iter().enumerate() {
+                        spheres::touching_pair(&inputs, key, state.entry(k), dt);
+                    }
+                }
+                // Debug prints the shortest string that reads back to the same bits.
+                format!("{touching:?} {geometry:?} {history:?} {load:?} {report:?}")
+            };
+            prop_assert_eq!(run(true), run(false));
+        }
+    }
+}
