@@ -1078,3 +1078,41 @@ fn a_particle_outside_a_closed_container_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     assert!(checked(dir.path(), THROUGH_THE_WALL).contains("scene is valid"));
 }
+
+/// Under `mpirun -np 2` each process would run the whole scene and write the same files over
+/// each other's: a run on several MPI ranks is refused, saying why and what to do, and writes
+/// nothing (until issue #17 brings distributed runs). One rank is an ordinary run.
+#[test]
+fn a_run_started_by_mpirun_on_several_ranks_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join(SCENE);
+    std::fs::write(&scene, BASE).unwrap();
+    let out = dir.path().join("out");
+    let launched = |variable: &str, ranks: &str| {
+        Command::new(env!("CARGO_BIN_EXE_polydem"))
+            .args([
+                "run".as_ref(),
+                scene.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ])
+            .env(variable, ranks)
+            .output()
+            .expect("the polydem binary starts")
+    };
+    for variable in ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"] {
+        let output = launched(variable, "2");
+        assert!(!output.status.success());
+        let message = text(&output.stderr);
+        for expected in [
+            "one of 2 processes",
+            "several MPI ranks",
+            "without mpirun",
+            "--threads",
+        ] {
+            assert!(message.contains(expected), "{variable}: {message}");
+        }
+        assert!(!out.exists(), "a refused run wrote {}", out.display());
+    }
+    accepted(&launched("OMPI_COMM_WORLD_SIZE", "1"));
+}

@@ -212,6 +212,18 @@ enum Bench {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let simulates = matches!(cli.command, Command::Run { .. } | Command::Resume { .. });
+    let ranks = polydem::decomposition::launched_ranks();
+    if simulates && ranks > 1 {
+        // Every process would run the whole scene and write the same files over each other.
+        eprintln!(
+            "error: polydem was started by an MPI launcher as one of {ranks} processes, but it \
+             does not run on several MPI ranks yet (issue #17): each process would run the whole \
+             scene and write the same files. Run it without mpirun (or with -np 1), and give it \
+             the cores of the machine with --threads N."
+        );
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Run {
             scene,
