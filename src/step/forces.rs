@@ -47,6 +47,30 @@ impl EntryState<'_> {
     }
 }
 
+#[cfg(test)]
+impl<'a> LawInputs<'a> {
+    /// The inputs of a world of bodies with no walls (the sphere paths' tests).
+    pub(crate) fn of_bodies(
+        bodies: &'a crate::body::Bodies,
+        shapes: &'a [crate::shape::Shape],
+        laws: &'a PairTable,
+        motion: &'a [BodyMotion],
+    ) -> Self {
+        LawInputs {
+            scene: Scene {
+                bodies,
+                shapes,
+                planes: &[],
+                walls: &[],
+                law: Default::default(),
+            },
+            wall_states: &[],
+            laws,
+            motion,
+        }
+    }
+}
+
 impl LawInputs<'_> {
     /// Velocity of the body point at `point` over the step just taken (the half-step velocity),
     /// and predicted at the end of the step.

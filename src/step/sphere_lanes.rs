@@ -317,7 +317,6 @@ mod tests {
     use crate::material::{Material, PairTable};
     use crate::math::DQuat;
     use crate::shape::{Shape, Sphere};
-    use crate::step::Scene;
     use glam::Vec3;
     use proptest::prelude::*;
 
@@ -428,18 +427,7 @@ mod tests {
                     damper_work_estimate: 1e-7,
                 });
             }
-            let inputs = LawInputs {
-                scene: Scene {
-                    bodies: &bodies,
-                    shapes: &shapes,
-                    planes: &[],
-                    walls: &[],
-                    law: Default::default(),
-                },
-                wall_states: &[],
-                laws,
-                motion: &motion,
-            };
+            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &motion);
             let key: Vec<ContactKey> = (0..4)
                 .map(|p| ContactKey { a: 2 * p, partner: Partner::Body(2 * p + 1), region: 0 })
                 .collect();

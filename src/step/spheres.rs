@@ -134,7 +134,6 @@ mod tests {
     use crate::math::{DQuat, DVec3};
     use crate::narrow_phase;
     use crate::shape::{Shape, Sphere};
-    use crate::step::Scene;
     use proptest::prelude::*;
 
     fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
@@ -224,18 +223,7 @@ mod tests {
                     radius: [ra, rb][i],
                 })
                 .collect();
-            let inputs = LawInputs {
-                scene: Scene {
-                    bodies: &bodies,
-                    shapes: &shapes,
-                    planes: &[],
-                    walls: &[],
-                    law: Default::default(),
-                },
-                wall_states: &[],
-                laws,
-                motion: &packed,
-            };
+            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &packed);
             let key = ContactKey { a: 0, partner: Partner::Body(1), region: 0 };
             let start = History {
                 tangential_spring: spring,
