@@ -285,6 +285,7 @@ impl World {
             wall_states: &self.wall_states,
             laws: &self.pair_laws,
             motion: &self.motion,
+            inverse_step: 1.0 / self.time_step,
         };
         clock.lap(&mut self.times.other);
         step::detect_and_evaluate(scene, laws, &mut self.contacts, dt);

@@ -94,6 +94,7 @@ fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt: f64) {
         ma.angular_velocity - mb.angular_velocity,
         effective_radius,
         effective_mass,
+        inputs.inverse_step,
     );
     let law = inputs.laws.get(bodies.material[a], bodies.material[j]);
     let r = if law.rolling_friction > 0.0 {
@@ -225,6 +226,7 @@ mod tests {
                 wall_states: &[],
                 laws,
                 motion: &packed,
+                inverse_step: 1.0 / dt,
             };
             let key = ContactKey { a: 0, partner: Partner::Body(1), region: 0 };
             let start = History {
