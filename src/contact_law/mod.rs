@@ -93,28 +93,45 @@ pub struct Kinematics {
     pub effective_mass: f64,
     /// For contacts of polyhedra under the volume law: the overlap volume and contact area.
     pub overlap_volume: Option<OverlapVolume>,
-    /// The masses a push at the contact point moves, along the normal and (at most) along the
-    /// tangent [kg]: 1/m = Σ 1/m_i + (r_i × d)·I_i⁻¹(r_i × d) over the bodies, r_i the arm. For
-    /// two spheres m* and 2/7 m*; at a polyhedron's corner the body turns as well, and the mass
-    /// is smaller. The dashpots are bounded on these ([`DASHPOT_BOUND`]).
-    pub dashpot_mass: DashpotMass,
+    /// The strongest normal and tangential dashpots the step allows at this contact [N s/m]
+    /// ([`DashpotLimit`]).
+    pub dashpot_limit: DashpotLimit,
 }
 
-/// See [`Kinematics::dashpot_mass`].
+/// The strongest dashpots the explicit step allows at a contact, along the normal and (at most)
+/// along the tangent [N s/m]: [`DASHPOT_BOUND`] m/Δt, with m the mass a push at the contact point
+/// moves, 1/m = Σ 1/m_i + (r_i × d)·I_i⁻¹(r_i × d) over the bodies (r_i the arm, d the
+/// direction): m* and 2/7 m* for two spheres; at a polyhedron's corner the body turns as well,
+/// and m is smaller.
+///
+/// Δt is the world's time step, the interval over which the force will act, and not the
+/// interval the contact's history advances by: when the forces are found again between two
+/// steps (after bodies were added or removed, and before the first step) the histories advance
+/// by nothing, but the force still acts over the next half kick. A limit taken on that zero
+/// interval was infinite, and with restitution 0 (whose dashpot is the limit) the force too:
+/// a pour with e = 0 blew up at its first insertion among touching bodies (issue #11).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DashpotMass {
+pub struct DashpotLimit {
     pub normal: f64,
     pub tangential: f64,
 }
 
-impl DashpotMass {
+impl DashpotLimit {
+    /// At a contact where a push along the normal moves `normal_mass` and one along the worst
+    /// tangent `tangential_mass`, under a step of 1/`inverse_step`.
+    #[inline(always)]
+    pub fn of_masses(normal_mass: f64, tangential_mass: f64, inverse_step: f64) -> Self {
+        Self {
+            normal: DASHPOT_BOUND * normal_mass * inverse_step,
+            tangential: DASHPOT_BOUND * tangential_mass * inverse_step,
+        }
+    }
+
     /// Two solid spheres (or a sphere on a wall) of effective mass `m`: the normal push moves
     /// m, a tangential one m/(1 + m R²/I) = 2/7 m.
-    pub fn of_spheres(m: f64) -> Self {
-        Self {
-            normal: m,
-            tangential: TANGENTIAL_MASS_SHARE * m,
-        }
+    #[inline(always)]
+    pub fn of_spheres(m: f64, inverse_step: f64) -> Self {
+        Self::of_masses(m, TANGENTIAL_MASS_SHARE * m, inverse_step)
     }
 }
 
@@ -235,8 +252,7 @@ pub fn evaluate_point(law: &PairLaw, k: &Kinematics, history: &mut History, dt: 
         normal::elastic(law, k.overlap, k.effective_radius);
     let damping_coefficient = normal::bounded_dashpot(
         law.damping * (k.effective_mass * stiffness).sqrt(),
-        k.dashpot_mass.normal,
-        dt,
+        k.dashpot_limit.normal,
     );
     let n = normal::NormalForce {
         elastic,
@@ -267,7 +283,7 @@ pub fn evaluate(
     spin: &mut SpinHistory,
     dt: f64,
 ) -> Response {
-    let n = normal::normal_force(law, k, dt);
+    let n = normal::normal_force(law, k);
     let t = tangential::tangential_force(law, k, &n, history, dt);
     let damper_work = book_dampers(history, k, &n, t.damper, dt);
     let r = rolling::rolling_torque(law, k, &n, spin, dt);
@@ -286,6 +302,13 @@ pub fn evaluate(
 /// The work the dashpots did in the previous step, against the velocity they met; and this
 /// step's dashpot force, kept for the next step to book (see [`History::damper_force`]). The
 /// normal part counts the no-tension cut-off too: it is the force less its elastic part.
+///
+/// Forces found again between steps (`dt` = 0: after bodies were added or removed, and before
+/// the first step) replace the last step's for the next opening half kick only: the last step's
+/// force acted over its closing half kick, the new one acts over the next opening one, both
+/// against the same velocity. So the force kept is the mean of the two, and the next step books
+/// each over its half step; booking the new one over a whole step put up to a quarter of a
+/// plastic impact's energy out of the ledger.
 #[inline(always)]
 fn book_dampers(
     history: &mut History,
@@ -295,9 +318,15 @@ fn book_dampers(
     dt: f64,
 ) -> f64 {
     let previous = history.damper_force.as_dvec3();
-    let work = -previous.dot(k.velocity_start) * dt;
     let normal = n.total - n.elastic;
-    history.damper_force = (k.normal * normal + tangential).as_vec3();
+    let force = k.normal * normal + tangential;
+    if dt == 0.0 {
+        // The estimate (booked if the contact ends first) stays the last step's.
+        history.damper_force = (0.5 * (previous + force)).as_vec3();
+        return 0.0;
+    }
+    let work = -previous.dot(k.velocity_start) * dt;
+    history.damper_force = force.as_vec3();
     history.damper_work_estimate =
         ((normal * k.overlap_rate - tangential.dot(k.tangential_velocity_end)) * dt) as f32;
     work

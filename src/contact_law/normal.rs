@@ -23,14 +23,12 @@ pub struct NormalForce {
     pub damping_coefficient: f64,
 }
 
-/// The dashpot `gamma` [N s/m] on the pair of effective mass `effective_mass`, held to what the
-/// explicit step `dt` can take ([`super::DASHPOT_BOUND`]).
+/// The dashpot `gamma` [N s/m] held to what the explicit step can take: `limit`, one of the
+/// contact's [`super::DashpotLimit`]s. (A restitution of 0 asks for an infinite dashpot: it gets
+/// the limit.)
 #[inline(always)]
-pub fn bounded_dashpot(gamma: f64, effective_mass: f64, dt: f64) -> f64 {
-    // 1/dt is the same for every contact of a step: in the contact loop it is computed once,
-    // leaving a product here instead of a division per contact (a tenth of a sphere contact's
-    // time, measured).
-    gamma.min(super::DASHPOT_BOUND * effective_mass * (1.0 / dt))
+pub fn bounded_dashpot(gamma: f64, limit: f64) -> f64 {
+    gamma.min(limit)
 }
 
 /// F_el(δ), S_n(δ) and the elastic energy for the law, without damping; and Hertz's contact
@@ -99,7 +97,7 @@ pub fn volume_law(
 /// Normal force with viscous damping F_d = c √(m* S_n) dδ/dt (the form of Tsuji et al. 1992 for
 /// Hertz, of Cundall & Strack 1979 for the linear spring), cut off at zero so that a contact never
 /// pulls: the damping constant c of [`super::restitution`] accounts for the cut-off.
-pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
+pub fn normal_force(law: &PairLaw, k: &Kinematics) -> NormalForce {
     let ((elastic, stiffness, elastic_energy, contact_radius), c, pressure_couple) =
         match k.overlap_volume {
             Some(v) => {
@@ -118,8 +116,7 @@ pub fn normal_force(law: &PairLaw, k: &Kinematics, dt: f64) -> NormalForce {
         };
     let damping_coefficient = bounded_dashpot(
         c * (k.effective_mass * stiffness).sqrt(),
-        k.dashpot_mass.normal,
-        dt,
+        k.dashpot_limit.normal,
     );
     let total = (elastic + damping_coefficient * k.overlap_rate).max(0.0);
     NormalForce {

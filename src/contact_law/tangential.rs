@@ -67,8 +67,7 @@ pub fn tangential_force(
     // Held, as the normal one, to what the step can take, on the tangential share of m*.
     let gamma = super::normal::bounded_dashpot(
         normal.damping_coefficient * ratio,
-        k.dashpot_mass.tangential,
-        dt,
+        k.dashpot_limit.tangential,
     );
     let damping = -gamma * k.tangential_velocity_end;
     let trial_xi = old_xi + k.tangential_velocity * dt;
@@ -143,6 +142,9 @@ mod tests {
         })
     }
 
+    /// The step of these tests.
+    const DT: f64 = 1e-5;
+
     fn kinematics(overlap: f64, overlap_rate: f64, slip: DVec3, slip_end: DVec3) -> Kinematics {
         Kinematics {
             normal: DVec3::Z,
@@ -155,7 +157,7 @@ mod tests {
             effective_radius: 1e-3,
             effective_mass: 1e-5,
             overlap_volume: None,
-            dashpot_mass: crate::contact_law::DashpotMass::of_spheres(1e-5),
+            dashpot_limit: crate::contact_law::DashpotLimit::of_spheres(1e-5, 1.0 / DT),
         }
     }
 
@@ -163,13 +165,12 @@ mod tests {
     /// spring stretched by this step's slip, plus the dashpot) exceeded it, i.e. the contact slid.
     fn step(k: &Kinematics, history: &mut History, dt: f64) -> (DVec3, f64, bool) {
         let law = law();
-        let n = normal_force(&law, k, dt);
+        let n = normal_force(&law, k);
         let limit = law.friction * n.total;
         let kt = stiffness(&law, &n, k);
         let gamma = crate::contact_law::normal::bounded_dashpot(
             n.damping_coefficient * law.tangential_damping_ratio,
-            k.dashpot_mass.tangential,
-            dt,
+            k.dashpot_limit.tangential,
         );
         let trial_xi =
             rotate_into_plane(history.tangential_spring, k.normal) + k.tangential_velocity * dt;
@@ -185,7 +186,7 @@ mod tests {
     #[test]
     fn friction_does_not_push_along_the_slip_after_the_dashpot_exceeded_the_limit() {
         let mut history = History::default();
-        let dt = 1e-5;
+        let dt = DT;
         // A grazing contact sliding fast: the dashpot alone is far above μ F_n.
         let fast = DVec3::new(2.0, 0.0, 0.0);
         let (_, _, slid) = step(&kinematics(1e-7, 0.0, fast, fast), &mut history, dt);
@@ -212,7 +213,7 @@ mod tests {
             ),
         ) {
             let mut history = History::default();
-            let dt = 1e-5;
+            let dt = DT;
             for (overlap, rate, vx, vy, change) in steps {
                 let slip = DVec3::new(vx, vy, 0.0);
                 let k = kinematics(overlap, rate, slip, slip * (1.0 + change));

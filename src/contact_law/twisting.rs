@@ -41,8 +41,7 @@ pub fn twisting_torque(
     // The tangential dashpot held to what the step can take, as in `tangential_force`.
     let gamma = super::normal::bounded_dashpot(
         law.damping_volume * (k.effective_mass * tangential_stiffness).sqrt(),
-        k.dashpot_mass.tangential,
-        dt,
+        k.dashpot_limit.tangential,
     ) * 0.5
         * radius
         * radius;

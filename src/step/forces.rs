@@ -8,7 +8,7 @@ use crate::contact::{
     ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, PairKind, Partner,
 };
 use crate::contact_law::{
-    self, DashpotMass, History, Kinematics, OverlapVolume, Response, SpinHistory,
+    self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
 };
 use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
@@ -30,6 +30,12 @@ pub struct LawInputs<'a> {
     pub laws: &'a PairTable,
     /// Each body's motion packed for the contact loops ([`pack_motion`]).
     pub motion: &'a [BodyMotion],
+    /// 1/Δt, Δt the world's time step: the interval the forces found will act over, on which
+    /// the dashpots are bounded (`contact_law::DashpotLimit`), whatever interval the histories
+    /// advance by (none when the forces are found again between steps). Computed once per step,
+    /// it leaves a product per contact instead of a division (a tenth of a sphere contact's
+    /// time, measured).
+    pub inverse_step: f64,
 }
 
 impl EntryState<'_> {
@@ -55,6 +61,7 @@ impl<'a> LawInputs<'a> {
         shapes: &'a [crate::shape::Shape],
         laws: &'a PairTable,
         motion: &'a [BodyMotion],
+        inverse_step: f64,
     ) -> Self {
         LawInputs {
             scene: Scene {
@@ -67,6 +74,7 @@ impl<'a> LawInputs<'a> {
             wall_states: &[],
             laws,
             motion,
+            inverse_step,
         }
     }
 }
@@ -152,11 +160,13 @@ impl LawInputs<'_> {
             self.motion[a].angular_velocity - wb,
             effective_radius,
             effective_mass,
+            self.inverse_step,
         );
         // Two spheres keep m* and 2/7 m*, as on the fast path (`step::spheres`), to the bit.
         if kind != PairKind::Spheres {
             let partner = key.partner.body().map(|j| j as usize);
-            k.dashpot_mass = dashpot_mass(b, a, partner, g.point, g.normal);
+            let (normal, tangential) = dashpot_mass(b, a, partner, g.point, g.normal);
+            k.dashpot_limit = DashpotLimit::of_masses(normal, tangential, self.inverse_step);
         }
         let law = self.laws.get(b.material[a], material);
         contact_law::evaluate(law, &k, history, spin, dt)
@@ -297,8 +307,10 @@ pub fn accumulate(
     partial.iter().sum()
 }
 
-/// Relative motion at a contact, from the relative velocities of the contact points.
+/// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'
+/// limits those of two spheres under a step of 1/`inverse_step`.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn kinematics(
     g: &ContactPoint,
     volume: Option<OverlapVolume>,
@@ -307,6 +319,7 @@ pub(crate) fn kinematics(
     relative_angular_velocity: DVec3,
     effective_radius: f64,
     effective_mass: f64,
+    inverse_step: f64,
 ) -> Kinematics {
     let normal_speed = relative_velocity.dot(g.normal);
     let normal_speed_end = relative_velocity_end.dot(g.normal);
@@ -321,19 +334,19 @@ pub(crate) fn kinematics(
         effective_radius,
         effective_mass,
         overlap_volume: volume,
-        dashpot_mass: DashpotMass::of_spheres(effective_mass),
+        dashpot_limit: DashpotLimit::of_spheres(effective_mass, inverse_step),
     }
 }
 
-/// The masses a push at `point` along `normal` (and at most along a tangent) moves, for body `a`
-/// and its partner `b` (`None`: a wall, which does not move): see `Kinematics::dashpot_mass`.
+/// The masses a push at `point` along `normal` and (at most) along a tangent moves, for body `a`
+/// and its partner `b` (`None`: a wall, which does not move): see `contact_law::DashpotLimit`.
 fn dashpot_mass(
     bodies: &Bodies,
     a: usize,
     b: Option<usize>,
     point: DVec3,
     normal: DVec3,
-) -> DashpotMass {
+) -> (f64, f64) {
     let (mut normal_compliance, mut tangential_compliance) = (0.0, 0.0);
     for i in std::iter::once(a).chain(b) {
         let arm = point - bodies.position[i];
@@ -345,8 +358,5 @@ fn dashpot_mass(
         tangential_compliance +=
             bodies.inv_mass[i] + arm.length_squared() * inv_inertia.max_element();
     }
-    DashpotMass {
-        normal: 1.0 / normal_compliance,
-        tangential: 1.0 / tangential_compliance,
-    }
+    (1.0 / normal_compliance, 1.0 / tangential_compliance)
 }

@@ -197,9 +197,10 @@ fn kernel(
     let velocity_start = relative.scale(F4::splat(2.0)) - relative_end;
     let tangential_mass = F4::splat(TANGENTIAL_MASS_SHARE) * effective_mass;
 
-    // The normal law (normal::elastic, normal::bounded_dashpot).
-    let bound = F4::splat(1.0 / dt);
-    let bounded = |gamma: F4, mass: F4| gamma.min(F4::splat(DASHPOT_BOUND) * mass * bound);
+    // The normal law (normal::elastic; normal::bounded_dashpot on DashpotLimit::of_spheres,
+    // taken on the world's step whatever `dt` the histories advance by).
+    let inverse_step = F4::splat(inputs.inverse_step);
+    let bounded = |gamma: F4, mass: F4| gamma.min(F4::splat(DASHPOT_BOUND) * mass * inverse_step);
     let contact_radius = (effective_radius * overlap).sqrt();
     let (e, k) = (law.youngs_modulus, law.linear_stiffness);
     let elastic = F4::select(
@@ -254,12 +255,21 @@ fn kernel(
     let xi = V3::select(frictionless, V3::zero(), xi);
     let kt = F4::select(frictionless, old_kt, kt);
 
-    // The dashpots' work of the last step and this step's (contact_law::book_dampers).
-    let damper_work = -previous_damper.dot(velocity_start) * dt4;
+    // The dashpots' work of the last step and this step's (contact_law::book_dampers). Forces
+    // found again between steps (dt = 0, the same for every lane) keep the mean of the last
+    // step's dashpot force and theirs, and the last step's estimate.
     let normal_damper = total - elastic;
     let damper_force = normal.scale(normal_damper) + damper_t;
-    let damper_estimate =
-        (normal_damper * overlap_rate - damper_t.dot(tangential_velocity_end)) * dt4;
+    let (damper_work, damper_force, damper_estimate) = if dt == 0.0 {
+        let kept = F4::new(std::array::from_fn(|i| {
+            history[i].damper_work_estimate as f64
+        }));
+        (zero, (previous_damper + damper_force).scale(half), kept)
+    } else {
+        let estimate = (normal_damper * overlap_rate - damper_t.dot(tangential_velocity_end)) * dt4;
+        let work = -previous_damper.dot(velocity_start) * dt4;
+        (work, damper_force, estimate)
+    };
 
     // The response (evaluate_point) and the load (Load::new).
     let force = normal.scale(total) + force_t;
@@ -389,8 +399,12 @@ mod tests {
         fn four_lanes_are_the_scalar_path_to_the_bit(
             pairs in prop::array::uniform4(pair()),
             law in 0..4usize,
-            dt in 1e-6..1e-4f64,
+            // Histories advance by `dt`; the dashpots are bounded on the world's step, which
+            // differs when forces are found between steps (dt = 0).
+            dt in prop_oneof![Just(0.0), 1e-6..1e-4f64],
+            step in 1e-6..1e-4f64,
         ) {
+            let inverse_step = 1.0 / step;
             let laws = &tables()[law];
             let (mut bodies, mut shapes, mut motion) = (Bodies::default(), Vec::new(), Vec::new());
             let mut start = Vec::new();
@@ -427,7 +441,7 @@ mod tests {
                     damper_work_estimate: 1e-7,
                 });
             }
-            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &motion);
+            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &motion, inverse_step);
             let key: Vec<ContactKey> = (0..4)
                 .map(|p| ContactKey { a: 2 * p, partner: Partner::Body(2 * p + 1), region: 0 })
                 .collect();

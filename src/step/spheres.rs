@@ -104,6 +104,7 @@ pub(crate) fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, 
         ma.angular_velocity - mb.angular_velocity,
         effective_radius,
         effective_mass,
+        inputs.inverse_step,
     );
     let law = law(inputs, key);
     let r = if law.rolling_friction > 0.0 {
@@ -223,7 +224,7 @@ mod tests {
                     radius: [ra, rb][i],
                 })
                 .collect();
-            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &packed);
+            let inputs = LawInputs::of_bodies(&bodies, &shapes, laws, &packed, 1.0 / dt);
             let key = ContactKey { a: 0, partner: Partner::Body(1), region: 0 };
             let start = History {
                 tangential_spring: spring,

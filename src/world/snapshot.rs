@@ -50,6 +50,9 @@ pub struct WorldState {
     pub next_id: u64,
     pub search: SearchState,
     pub forces_current: bool,
+    /// See `World::kick_excess` (absent from checkpoints written before it).
+    #[serde(default)]
+    pub kick_excess: f64,
 }
 
 /// Why a state does not fit a world.
@@ -121,6 +124,7 @@ impl World {
             next_id: self.next_id,
             search: self.search.state(),
             forces_current: self.forces_current,
+            kick_excess: self.kick_excess,
         })
     }
 
@@ -184,6 +188,7 @@ impl World {
         self.next_id = state.next_id;
         self.search.restore(state.search);
         self.forces_current = state.forces_current;
+        self.kick_excess = state.kick_excess;
         // The walls' poses follow from their motion and the time.
         self.wall_time = state.wall_time;
         for (n, (wall, saved)) in self
