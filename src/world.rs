@@ -325,9 +325,9 @@ impl World {
         {
             let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
             let spins = volumes || self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
-            self.dissipated +=
-                self.contacts
-                    .set_candidates(list, self.bodies.len(), volumes, spins);
+            self.dissipated += self
+                .contacts
+                .set_candidates(list, &self.bodies.id, volumes, spins);
         }
         self.update_wall_states(dt);
         let scene = step::Scene {

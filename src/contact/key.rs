@@ -23,6 +23,19 @@ impl Partner {
     pub fn is_wall(self) -> bool {
         !matches!(self, Partner::Body(_))
     }
+
+    /// Where the partner sorts among a body's contacts: bodies by global id (`ids`, indexed by
+    /// body), then planes, then mesh walls by index. Global ids do not depend on how the bodies
+    /// are numbered (the space order, or one rank's share of them under MPI), so neither does this
+    /// order, nor the force sums that follow it.
+    #[inline]
+    pub fn rank(self, ids: &[u64]) -> (u8, u64) {
+        match self {
+            Partner::Body(j) => (0, ids[j as usize]),
+            Partner::Plane(p) => (1, p as u64),
+            Partner::Mesh(w) => (2, w as u64),
+        }
+    }
 }
 
 /// How the narrow phase treats a pair; decided from the shapes when the pair becomes a candidate.
@@ -57,10 +70,12 @@ pub struct ShapeTraits {
     pub regional: bool,
 }
 
-/// The identity of one contact, stable while the contact lasts: body `a` (for two bodies the smaller
-/// index), its partner, and which of the pair's contact regions this is (0 for a pair that touches
-/// in one place). Keys sort by `(a, partner, region)`; the store keeps its contacts in that order,
-/// which is what makes every later loop run in a fixed order whatever the thread count.
+/// The identity of one contact, stable while the contact lasts: body `a` (for two bodies the one
+/// with the smaller global id, `Bodies::id`), its partner, and which of the pair's contact regions
+/// this is (0 for a pair that touches in one place). The store keeps its contacts in the order of
+/// [`ContactKey::order`]: by `a`, then by partner and region in an order that does not depend on
+/// how the bodies are numbered. So the force sums run in one order whatever the thread count, the
+/// bodies' numbering or (under MPI) the rank count, and give the same bits.
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
 )]
@@ -68,4 +83,16 @@ pub struct ContactKey {
     pub a: u32,
     pub partner: Partner,
     pub region: u8,
+}
+
+/// Where a contact sorts in the store: see [`ContactKey::order`].
+pub type ContactOrder = (u32, (u8, u64), u8);
+
+impl ContactKey {
+    /// The store's order of contacts: by `a` (an index), then by [`Partner::rank`] (global ids),
+    /// then by region.
+    #[inline]
+    pub fn order(&self, ids: &[u64]) -> ContactOrder {
+        (self.a, self.partner.rank(ids), self.region)
+    }
 }

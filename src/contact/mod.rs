@@ -6,7 +6,7 @@ mod load;
 mod regions;
 mod store;
 
-pub use key::{ContactKey, PairKind, Partner, ShapeTraits};
+pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits};
 pub use load::{LawReport, Load};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
 pub use store::{Candidate, ContactRef, ContactStore};

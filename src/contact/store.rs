@@ -12,7 +12,7 @@
 //! Persistent state (key, history) is kept apart from what a step recomputes (touching, geometry,
 //! response).
 
-use super::key::{ContactKey, PairKind, Partner};
+use super::key::{ContactKey, ContactOrder, PairKind, Partner};
 use super::load::{LawReport, Load};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
@@ -26,6 +26,13 @@ pub struct Candidate {
     pub partner: Partner,
     /// How the narrow phase treats the pair; a regional pair gets [`MAX_REGIONS`] entries.
     pub kind: PairKind,
+}
+
+impl Candidate {
+    /// The store's order ([`ContactKey::order`]) of the candidate's first entry.
+    pub fn order(&self, ids: &[u64]) -> ContactOrder {
+        (self.a, self.partner.rank(ids), 0)
+    }
 }
 
 /// One contact as outside code sees it.
@@ -155,13 +162,13 @@ impl ContactStore {
     pub fn set_candidates(
         &mut self,
         candidates: &[Candidate],
-        bodies: usize,
+        ids: &[u64],
         volumes: bool,
         spins: bool,
     ) -> f64 {
         debug_assert!(candidates
             .windows(2)
-            .all(|w| (w[0].a, w[0].partner) < (w[1].a, w[1].partner)));
+            .all(|w| w[0].order(ids) < w[1].order(ids)));
         // The new keys, in order.
         self.regional.clear();
         self.new_keys.clear();
@@ -192,7 +199,8 @@ impl ContactStore {
         let mut next = 0;
         for o in 0..e.key.len() {
             let key = e.key[o];
-            while next < self.new_keys.len() && self.new_keys[next].0 < key {
+            let order = key.order(ids);
+            while next < self.new_keys.len() && self.new_keys[next].0.order(ids) < order {
                 next += 1;
             }
             if next < self.new_keys.len() && self.new_keys[next].0 == key {
@@ -228,12 +236,14 @@ impl ContactStore {
         if volumes {
             self.volume.resize(count, None);
         }
-        self.index(bodies);
+        self.index(ids);
         lost
     }
 
-    /// Builds the per-body index lists (counting sorts, linear in the entries).
-    fn index(&mut self, bodies: usize) {
+    /// Builds the per-body index lists (counting sorts, linear in the entries), each body's
+    /// incoming entries sorted by the global id of their `a` (short lists).
+    fn index(&mut self, ids: &[u64]) {
+        let bodies = ids.len();
         let keys = &self.entries.key;
         self.own.clear();
         self.own.resize(bodies + 1, 0);
@@ -261,6 +271,13 @@ impl ContactStore {
                 self.incoming[*slot as usize] = e as u32;
                 *slot += 1;
             }
+        }
+        for i in 0..bodies {
+            let list = &mut self.incoming
+                [self.incoming_first[i] as usize..self.incoming_first[i + 1] as usize];
+            list.sort_unstable_by_key(|&e| {
+                (ids[keys[e as usize].a as usize], keys[e as usize].region)
+            });
         }
     }
 
@@ -320,18 +337,20 @@ impl ContactStore {
     }
 
     /// After the bodies were put in a new order (`new_index[old] = new`, see
-    /// `step::space_order`): renumbers the entries and sorts them again. A body pair keeps its
-    /// lower index as `a`, so a pair whose order turned is seen from its other side: its normal,
-    /// tangential spring, dashpot force, rolling torque, force and moments change sign. Nothing else changes; the
-    /// per-body index lists are stale until the next [`ContactStore::set_candidates`].
-    pub fn permute(&mut self, new_index: &[u32]) {
+    /// `step::space_order`; `ids` the bodies' global ids in the new order): renumbers the entries
+    /// and sorts them again. Body pairs are oriented by global id, so renumbering never turns one;
+    /// a pair oriented the other way (from a checkpoint of an older version, which oriented by
+    /// index) is seen from its other side: its normal, tangential spring, dashpot force, rolling
+    /// torque, force and moments change sign. Nothing else changes; the per-body index lists are
+    /// stale until the next [`ContactStore::set_candidates`].
+    pub fn permute(&mut self, new_index: &[u32], ids: &[u64]) {
         let e = &mut self.entries;
-        let mut order: Vec<(ContactKey, u32)> = Vec::with_capacity(e.key.len());
+        let mut order: Vec<(ContactOrder, ContactKey, u32)> = Vec::with_capacity(e.key.len());
         for k in 0..e.key.len() {
             let key = e.key[k];
             let a = new_index[key.a as usize];
             let key = match key.partner {
-                Partner::Body(j) if new_index[j as usize] < a => {
+                Partner::Body(j) if ids[new_index[j as usize] as usize] < ids[a as usize] => {
                     let g = &mut e.geometry[k];
                     g.normal = -g.normal;
                     let h = &mut e.history[k];
@@ -361,12 +380,12 @@ impl ContactStore {
                     ..key
                 },
             };
-            order.push((key, k as u32));
+            order.push((key.order(ids), key, k as u32));
         }
         order.sort_unstable();
-        let from: Vec<u32> = order.iter().map(|&(_, k)| k).collect();
+        let from: Vec<u32> = order.iter().map(|&(_, _, k)| k).collect();
         let done = &mut Vec::new();
-        for (slot, &(key, _)) in e.key.iter_mut().zip(&order) {
+        for (slot, &(_, key, _)) in e.key.iter_mut().zip(&order) {
             *slot = key;
         }
         drop(order);
@@ -387,6 +406,17 @@ impl ContactStore {
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
+    }
+
+    /// Whether every body pair is oriented by global id and the entries are in the store's order
+    /// ([`ContactKey::order`]).
+    pub fn in_order(&self, ids: &[u64]) -> bool {
+        let keys = &self.entries.key;
+        let oriented = keys.iter().all(|k| match k.partner {
+            Partner::Body(j) => ids[k.a as usize] < ids[j as usize],
+            _ => true,
+        });
+        oriented && keys.windows(2).all(|w| w[0].order(ids) < w[1].order(ids))
     }
 
     /// Number of entries (candidate contacts).
@@ -593,7 +623,7 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        store.set_candidates(&first, 3, false, false);
+        store.set_candidates(&first, &[0, 1, 2], false, false);
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
         store.entries.history[e].tangential_stiffness = 4.0;
@@ -603,13 +633,14 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        assert_eq!(store.set_candidates(&second, 3, false, false), 0.0);
+        assert_eq!(store.set_candidates(&second, &[0, 1, 2], false, false), 0.0);
         let history = |s: &ContactStore, k: usize| s.entries.history[k];
         assert_eq!(history(&store, 0), History::default());
         assert_eq!(history(&store, 1).tangential_spring, DVec3::X);
         assert!(store.touching()[1]);
         // A touching contact that drops out gives back the energy its springs held.
-        let lost = store.set_candidates(&[candidate(0, Partner::Body(2))], 3, false, false);
+        let lost =
+            store.set_candidates(&[candidate(0, Partner::Body(2))], &[0, 1, 2], false, false);
         assert_eq!(lost, 0.5 * 4.0);
     }
 
@@ -622,9 +653,9 @@ mod tests {
             candidate(0, Partner::Body(1)),
             candidate(1, Partner::Body(2)),
         ];
-        store.set_candidates(&pairs, 3, false, false);
+        store.set_candidates(&pairs, &[0, 1, 2], false, false);
         assert!(store.iter().all(|c| c.spin.is_none()));
-        store.set_candidates(&pairs, 3, false, true);
+        store.set_candidates(&pairs, &[0, 1, 2], false, true);
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.spin[e] = SpinHistory {
             rolling_torque: DVec3::Y,
@@ -632,10 +663,10 @@ mod tests {
             ..SpinHistory::default()
         };
         let more = [pairs[0], candidate(0, Partner::Body(2)), pairs[1]];
-        assert_eq!(store.set_candidates(&more, 3, false, true), 0.0);
+        assert_eq!(store.set_candidates(&more, &[0, 1, 2], false, true), 0.0);
         let c = store.iter().find(|c| c.key.a == 1).unwrap();
         assert_eq!(c.spin.unwrap().rolling_torque, DVec3::Y);
-        let lost = store.set_candidates(&more[..2], 3, false, true);
+        let lost = store.set_candidates(&more[..2], &[0, 1, 2], false, true);
         assert_eq!(lost, 0.5 / 0.25);
     }
 
@@ -684,7 +715,7 @@ mod tests {
                     .filter(|(k, s)| s.1 && !fresh.contains_key(k))
                     .map(|(_, s)| 0.5 * s.2.length_squared() + if spins { s.3.length_squared() } else { 0.0 })
                     .sum();
-                let lost = store.set_candidates(&candidates, 6, false, spins);
+                let lost = store.set_candidates(&candidates, &[0, 1, 2, 3, 4, 5], false, spins);
                 model = fresh;
                 proptest::prop_assert!((lost - expected_lost).abs() <= 1e-12 * (1.0 + expected_lost));
                 let keys: Vec<ContactKey> = model.keys().copied().collect();
@@ -740,7 +771,7 @@ mod tests {
                 kind: PairKind::Regional,
             },
         ];
-        store.set_candidates(&list, 3, true, true);
+        store.set_candidates(&list, &[0, 1, 2], true, true);
         assert_eq!(store.entries(), 3 + MAX_REGIONS);
         assert_eq!(store.own(0), 0..2);
         assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
@@ -759,7 +790,7 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, 3, true, true);
+        store.set_candidates(&list, &[0, 1, 2], true, true);
         let e = touch(&mut store, 0, Partner::Body(1));
         store.report[e].elastic_energy = 2.0;
         let lost = store.renumber(&[0, u32::MAX, 1]);

@@ -29,8 +29,12 @@ pub struct NeighbourSearch {
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     wall_candidates: Vec<(u32, Partner)>,
-    /// The candidates, sorted by `(a, partner)`.
+    /// The candidates, in the store's order ([`Candidate::order`]).
     list: Vec<Candidate>,
+    /// Working memory of the list's counting sort: each body's first candidate, and the next
+    /// free place of each body's run.
+    first: Vec<u32>,
+    next: Vec<u32>,
     /// Times the list was made (for diagnostics and tests).
     pub rebuilds: u64,
 }
@@ -58,6 +62,8 @@ impl NeighbourSearch {
             pairs: Vec::new(),
             wall_candidates: Vec::new(),
             list: Vec::new(),
+            first: Vec::new(),
+            next: Vec::new(),
             rebuilds: 0,
         }
     }
@@ -189,9 +195,12 @@ impl NeighbourSearch {
         );
     }
 
-    /// One sorted list from the body pairs (sorted by the broad phase) and the wall candidates
-    /// (sorted by body).
+    /// One list in the store's order ([`Candidate::order`]) from the body pairs and the wall
+    /// candidates: each body pair oriented by global id (body `a` the one with the smaller id, so
+    /// that the pair is seen from the same side however the bodies are numbered), placed by `a`
+    /// (a counting sort), then each body's short run sorted by its partners' rank.
     fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) {
+        let ids = &bodies.id;
         let traits = |i: u32| {
             let shape = &shapes[bodies.shape[i as usize] as usize];
             ShapeTraits {
@@ -199,29 +208,59 @@ impl NeighbourSearch {
                 regional: shape.has_regions(),
             }
         };
-        let wall = |a: u32, partner: Partner| Candidate {
-            a,
-            partner,
-            kind: PairKind::of(traits(a), partner, None),
+        let oriented = |&(i, j): &Pair| {
+            if ids[i as usize] < ids[j as usize] {
+                (i, j)
+            } else {
+                (j, i)
+            }
+        };
+        let first = &mut self.first;
+        first.clear();
+        first.resize(bodies.len() + 1, 0);
+        for pair in &self.pairs {
+            first[oriented(pair).0 as usize + 1] += 1;
+        }
+        for &(a, _) in &self.wall_candidates {
+            first[a as usize + 1] += 1;
+        }
+        for i in 0..bodies.len() {
+            first[i + 1] += first[i];
+        }
+        let unset = Candidate {
+            a: 0,
+            partner: Partner::Body(0),
+            kind: PairKind::Single,
         };
         self.list.clear();
-        let mut walls = self.wall_candidates.iter().peekable();
-        for &(i, j) in &self.pairs {
-            while let Some(&&(a, partner)) = walls.peek().filter(|(a, _)| *a < i) {
-                self.list.push(wall(a, partner));
-                walls.next();
-            }
-            let partner = Partner::Body(j);
-            self.list.push(Candidate {
-                a: i,
+        self.list.resize(first[bodies.len()] as usize, unset);
+        let next = &mut self.next;
+        next.clear();
+        next.extend_from_slice(&first[..bodies.len()]);
+        let mut place = |c: Candidate| {
+            let slot = &mut next[c.a as usize];
+            self.list[*slot as usize] = c;
+            *slot += 1;
+        };
+        for pair in &self.pairs {
+            let (a, b) = oriented(pair);
+            let partner = Partner::Body(b);
+            place(Candidate {
+                a,
                 partner,
-                kind: PairKind::of(traits(i), partner, Some(traits(j))),
+                kind: PairKind::of(traits(a), partner, Some(traits(b))),
             });
         }
-        // Wall candidates of the last body with pairs sort after its pairs: planes and meshes
-        // come after bodies in a body's contacts.
-        for &(a, partner) in walls {
-            self.list.push(wall(a, partner));
+        for &(a, partner) in &self.wall_candidates {
+            place(Candidate {
+                a,
+                partner,
+                kind: PairKind::of(traits(a), partner, None),
+            });
+        }
+        for i in 0..bodies.len() {
+            self.list[first[i] as usize..first[i + 1] as usize]
+                .sort_unstable_by_key(|c| c.partner.rank(ids));
         }
     }
 }

@@ -187,6 +187,13 @@ impl World {
         self.wall_states = state.wall_states;
         self.next_id = state.next_id;
         self.search.restore(state.search);
+        if !self.contacts.in_order(&self.bodies.id) {
+            // A checkpoint of a version that oriented body pairs by index: the contacts are
+            // turned and sorted as this version keeps them, and found again from there.
+            let identity: Vec<u32> = (0..self.bodies.len() as u32).collect();
+            self.contacts.permute(&identity, &self.bodies.id);
+            self.search.invalidate();
+        }
         self.forces_current = state.forces_current;
         self.kick_excess = state.kick_excess;
         // The walls' poses follow from their motion and the time.
