@@ -22,6 +22,33 @@ pub struct BodyInit {
     pub angular_velocity: DVec3,
 }
 
+/// One body's every number, as plain data: what a share of a decomposed world receives to hold
+/// a body it did not (see `decomposition`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BodyRecord {
+    pub id: u64,
+    pub shape: ShapeId,
+    pub material: MaterialId,
+    pub bounding_radius: f64,
+    pub equivalent_radius: f64,
+    pub mass: f64,
+    pub inertia: DVec3,
+    pub motion: BodyMotionState,
+}
+
+/// What a step changes of a body: what a share of a decomposed world copies, after every step,
+/// from a body's owner into its ghosts.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BodyMotionState {
+    pub position: DVec3,
+    pub orientation: DQuat,
+    pub velocity: DVec3,
+    pub angular_momentum: DVec3,
+    pub angular_velocity: DVec3,
+    pub force: DVec3,
+    pub torque: DVec3,
+}
+
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bodies {
     /// User-visible identifier, stable for the life of the body.
@@ -51,6 +78,14 @@ pub struct Bodies {
     /// Contact force and torque accumulated in the current step (world frame).
     pub force: Vec<DVec3>,
     pub torque: Vec<DVec3>,
+
+    /// Whether the body is a ghost: a copy, held by one share of a decomposed world, of a body
+    /// that another share owns and steps (see `decomposition`). A ghost is stepped like any body,
+    /// so that the owned bodies it touches see it move, but the energy ledger, the meters, the
+    /// wall loads and the outputs leave it to its owner. Empty when no body is a ghost (the
+    /// usual world, and checkpoints of it).
+    #[serde(default)]
+    pub ghost: Vec<bool>,
 }
 
 impl Bodies {
@@ -95,6 +130,95 @@ impl Bodies {
         self.inv_inertia.push(inertia.recip());
         self.force.push(DVec3::ZERO);
         self.torque.push(DVec3::ZERO);
+        if !self.ghost.is_empty() {
+            self.ghost.push(false);
+        }
+    }
+
+    /// Whether body `i` is a ghost (see [`Bodies::ghost`]).
+    #[inline]
+    pub fn is_ghost(&self, i: usize) -> bool {
+        self.ghost.get(i).copied().unwrap_or(false)
+    }
+
+    /// Whether body `i` counts in this world's sums (ledger, meters, wall loads, outputs): every
+    /// body but a ghost.
+    #[inline]
+    pub fn counts(&self, i: usize) -> bool {
+        !self.is_ghost(i)
+    }
+
+    /// Body `i`'s every number.
+    pub fn record(&self, i: usize) -> BodyRecord {
+        BodyRecord {
+            id: self.id[i],
+            shape: self.shape[i],
+            material: self.material[i],
+            bounding_radius: self.bounding_radius[i],
+            equivalent_radius: self.equivalent_radius[i],
+            mass: self.mass[i],
+            inertia: self.inertia[i],
+            motion: self.motion_state(i),
+        }
+    }
+
+    /// What a step changed of body `i`.
+    pub fn motion_state(&self, i: usize) -> BodyMotionState {
+        BodyMotionState {
+            position: self.position[i],
+            orientation: self.orientation[i],
+            velocity: self.velocity[i],
+            angular_momentum: self.angular_momentum[i],
+            angular_velocity: self.angular_velocity[i],
+            force: self.force[i],
+            torque: self.torque[i],
+        }
+    }
+
+    /// Makes body `i`'s motion `m`, bit for bit.
+    pub fn set_motion_state(&mut self, i: usize, m: &BodyMotionState) {
+        self.position[i] = m.position;
+        self.orientation[i] = m.orientation;
+        self.velocity[i] = m.velocity;
+        self.angular_momentum[i] = m.angular_momentum;
+        self.angular_velocity[i] = m.angular_velocity;
+        self.force[i] = m.force;
+        self.torque[i] = m.torque;
+    }
+
+    /// Appends the body `r` describes, bit for bit, a ghost if `ghost`.
+    pub fn push_record(&mut self, r: &BodyRecord, ghost: bool) {
+        if ghost && self.ghost.is_empty() {
+            self.ghost.resize(self.len(), false);
+        }
+        self.id.push(r.id);
+        self.shape.push(r.shape);
+        self.material.push(r.material);
+        self.bounding_radius.push(r.bounding_radius);
+        self.equivalent_radius.push(r.equivalent_radius);
+        self.position.push(r.motion.position);
+        self.orientation.push(r.motion.orientation);
+        self.velocity.push(r.motion.velocity);
+        self.angular_momentum.push(r.motion.angular_momentum);
+        self.angular_velocity.push(r.motion.angular_velocity);
+        self.mass.push(r.mass);
+        self.inv_mass.push(1.0 / r.mass);
+        self.inertia.push(r.inertia);
+        self.inv_inertia.push(r.inertia.recip());
+        self.force.push(r.motion.force);
+        self.torque.push(r.motion.torque);
+        if !self.ghost.is_empty() {
+            self.ghost.push(ghost);
+        }
+    }
+
+    /// Marks which bodies are ghosts (`ghost[i]`); none: the mask is dropped.
+    pub fn set_ghosts(&mut self, ghost: &[bool]) {
+        debug_assert_eq!(ghost.len(), self.len());
+        self.ghost.clear();
+        if ghost.iter().any(|&g| g) {
+            self.ghost.extend_from_slice(ghost);
+        }
     }
 
     /// Keeps the bodies whose `keep` flag is set, in their order; the others are removed.
@@ -125,6 +249,9 @@ impl Bodies {
         compact(&mut self.inv_inertia, keep);
         compact(&mut self.force, keep);
         compact(&mut self.torque, keep);
+        if !self.ghost.is_empty() {
+            compact(&mut self.ghost, keep);
+        }
     }
 
     /// Puts the bodies in a new order: body `k` becomes what body `order[k]` was.
@@ -147,5 +274,8 @@ impl Bodies {
         permute_in_place(&mut self.inv_inertia, order, done);
         permute_in_place(&mut self.force, order, done);
         permute_in_place(&mut self.torque, order, done);
+        if !self.ghost.is_empty() {
+            permute_in_place(&mut self.ghost, order, done);
+        }
     }
 }

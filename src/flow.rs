@@ -40,7 +40,8 @@ impl FlowMeter {
 
     /// Counts the bodies whose centres crossed during the drift just done (from x − v·dt to x).
     pub fn record(&mut self, b: &Bodies, dt: f64) {
-        for i in 0..b.len() {
+        // A ghost is counted by its owner.
+        for i in (0..b.len()).filter(|&i| b.counts(i)) {
             let after = b.position[i];
             let before = after - b.velocity[i] * dt;
             let sign = match &self.surface {

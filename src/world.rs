@@ -11,6 +11,7 @@ use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::{
     self, space_order, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
+    WallsNow,
 };
 use crate::time_table::TimeTable;
 use crate::wall::Plane;
@@ -19,6 +20,7 @@ use crate::wall::{MeshWall, WallState};
 mod config;
 mod interventions;
 mod population;
+mod share;
 mod snapshot;
 mod view;
 
@@ -221,6 +223,7 @@ impl World {
         let b = &self.bodies;
         let h = 0.5 * self.time_step;
         (0..b.len())
+            .filter(|&i| b.counts(i))
             .map(|i| {
                 let (force, torque) = less.map_or((DVec3::ZERO, DVec3::ZERO), |l| l[i]);
                 let push = b.force[i] - force + b.mass[i] * self.gravity;
@@ -300,6 +303,7 @@ impl World {
         let change = g - self.gravity;
         let b = &self.bodies;
         self.gravity_work -= (0..b.len())
+            .filter(|&i| b.counts(i))
             .map(|i| b.mass[i] * change.dot(b.position[i]))
             .sum::<f64>();
         self.gravity = g;
@@ -318,17 +322,7 @@ impl World {
     /// the start), with the bodies' motion already packed; `kick` closes the step.
     fn update_forces(&mut self, dt: f64, kick: Option<Kick>) {
         let mut clock = Stopwatch::start();
-        let walls = (&self.planes, &self.mesh_walls);
-        if let Some(list) = self
-            .search
-            .update(&self.bodies, &self.shapes, walls.0, walls.1)
-        {
-            let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
-            let spins = volumes || self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
-            self.dissipated += self
-                .contacts
-                .set_candidates(list, &self.bodies.id, volumes, spins);
-        }
+        self.update_candidates();
         self.update_wall_states(dt);
         let scene = step::Scene {
             bodies: &self.bodies,
@@ -355,16 +349,37 @@ impl World {
             kick,
             &mut self.dissipated_chunks,
         );
-        self.wall_loads.book(
-            &self.contacts,
-            &self.planes,
-            &self.mesh_walls,
-            &self.wall_states,
-            self.wall_time,
-            dt,
-        );
+        self.book_wall_loads(dt);
         clock.lap(&mut self.times.accumulate);
         self.forces_current = true;
+    }
+
+    /// Books the contacts' reactions on the walls over the step `dt` (`step::WallLoads::book`).
+    fn book_wall_loads(&mut self, dt: f64) {
+        let walls = WallsNow {
+            planes: &self.planes,
+            meshes: &self.mesh_walls,
+            states: &self.wall_states,
+            time: self.wall_time,
+        };
+        self.wall_loads
+            .book(&self.contacts, &self.bodies, walls, dt);
+    }
+
+    /// Makes the candidate list again if it may have gone stale (`step::candidates`), carrying
+    /// the contacts' histories over.
+    fn update_candidates(&mut self) {
+        let walls = (&self.planes, &self.mesh_walls);
+        if let Some(list) = self
+            .search
+            .update(&self.bodies, &self.shapes, walls.0, walls.1)
+        {
+            let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
+            let spins = volumes || self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
+            self.dissipated += self
+                .contacts
+                .set_candidates(list, &self.bodies, volumes, spins);
+        }
     }
 
     /// Each moving mesh wall's motion over the step ending at the walls' time, and at its end.
@@ -388,10 +403,14 @@ impl World {
             inserted: world.energy_inserted,
             wall_work: world.wall_loads().work,
             gravity_work: world.gravity_work,
-            contacts: world.contacts().len(),
+            contacts: world
+                .contacts()
+                .iter()
+                .filter(|c| b.counts(c.key.a as usize))
+                .count(),
             ..EnergyReport::default()
         };
-        for i in 0..b.len() {
+        for i in (0..b.len()).filter(|&i| b.counts(i)) {
             report.kinetic_translational += 0.5 * b.mass[i] * b.velocity[i].length_squared();
             report.kinetic_rotational += integrate::rotation::rotational_energy(
                 b.orientation[i],
@@ -401,6 +420,9 @@ impl World {
             report.potential -= b.mass[i] * world.gravity.dot(b.position[i]);
         }
         for c in world.contacts().iter() {
+            if !b.counts(c.key.a as usize) {
+                continue;
+            }
             report.elastic += c.report.elastic_energy;
             // The last step's dashpot work, which the next step books exactly; estimated here.
             report.dissipated += c.history.damper_work_estimate as f64;

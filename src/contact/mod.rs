@@ -9,5 +9,5 @@ mod store;
 pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits};
 pub use load::{LawReport, Load};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
-pub use store::{Candidate, ContactRef, ContactStore};
+pub use store::{Candidate, ContactRef, ContactStore, EntryRecord, PartnerId, UnplacedContact};
 pub(crate) use store::{EntryIds, EntryState};

@@ -15,9 +15,13 @@
 use super::key::{ContactKey, ContactOrder, PairKind, Partner};
 use super::load::{LawReport, Load};
 use super::regions::{Assigned, MAX_REGIONS};
+use crate::body::Bodies;
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
 use crate::math::permute_in_place;
 use crate::narrow_phase::{ContactPoint, Geometry};
+
+mod transfer;
+pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
 
 /// A body and a partner that may touch before the next neighbour search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -150,7 +154,7 @@ impl ContactStore {
     /// Makes `candidates` (sorted by `(a, partner)`, each once) the entries, carrying every
     /// continuing entry's state over. Returns the energy the history springs of touching contacts
     /// that are no longer candidates still held (none in a consistent neighbour search; booked as
-    /// dissipated by the caller).
+    /// dissipated by the caller; a ghost's contacts are left to its owner, see `Bodies::ghost`).
     ///
     /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep; `spins`: some
     /// contacts may have rolling or twisting springs (rolling friction or polyhedra).
@@ -162,10 +166,11 @@ impl ContactStore {
     pub fn set_candidates(
         &mut self,
         candidates: &[Candidate],
-        ids: &[u64],
+        bodies: &Bodies,
         volumes: bool,
         spins: bool,
     ) -> f64 {
+        let ids = &bodies.id;
         debug_assert!(candidates
             .windows(2)
             .all(|w| w[0].order(ids) < w[1].order(ids)));
@@ -193,6 +198,15 @@ impl ContactStore {
         } else {
             e.spin.clear();
         }
+        // What the last evaluation gave goes along with its entry (read between steps: the
+        // ledger, the outputs), so the store tells the same story after a new list as before.
+        self.load.resize(e.key.len(), Load::default());
+        self.report.resize(e.key.len(), LawReport::default());
+        if volumes {
+            self.volume.resize(e.key.len(), None);
+        } else {
+            self.volume.clear();
+        }
         // 1. Keep the entries whose key is still a candidate, in order, moved down.
         let mut lost = 0.0;
         let mut kept = 0;
@@ -205,37 +219,50 @@ impl ContactStore {
             }
             if next < self.new_keys.len() && self.new_keys[next].0 == key {
                 e.move_entry(o, kept);
+                self.load[kept] = self.load[o];
+                self.report[kept] = self.report[o];
+                if volumes {
+                    self.volume[kept] = self.volume[o];
+                }
                 kept += 1;
-            } else if e.touching[o] {
+            } else if e.touching[o] && bodies.counts(key.a as usize) {
                 lost += e.stored_energy(o);
             }
         }
         e.truncate(kept);
+        self.load.truncate(kept);
+        self.report.truncate(kept);
+        self.volume.truncate(kept);
         // 2. Spread them to their new places from the back, new entries between them.
         let count = self.new_keys.len();
         e.resize(count, spins);
+        self.load.resize(count, Load::default());
+        self.report.resize(count, LawReport::default());
+        if volumes {
+            self.volume.resize(count, None);
+        }
         let mut o = kept;
         for k in (0..count).rev() {
             let (key, kind) = self.new_keys[k];
             if o > 0 && e.key[o - 1] == key {
                 o -= 1;
                 e.move_entry(o, k);
+                self.load[k] = self.load[o];
+                self.report[k] = self.report[o];
+                if volumes {
+                    self.volume[k] = self.volume[o];
+                }
             } else {
                 e.reset_entry(k, key);
+                self.load[k] = Load::default();
+                self.report[k] = LawReport::default();
+                if volumes {
+                    self.volume[k] = None;
+                }
             }
             e.kind[k] = kind;
         }
         debug_assert_eq!(o, 0);
-        self.load.clear();
-        self.load.resize(count, Load::default());
-        self.report.clear();
-        self.report.resize(count, LawReport::default());
-        // A continuing regional contact's volume is found again before it is used; single
-        // contacts write theirs every step.
-        self.volume.clear();
-        if volumes {
-            self.volume.resize(count, None);
-        }
         self.index(ids);
         lost
     }
@@ -283,9 +310,9 @@ impl ContactStore {
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed
     /// body) and drops those of removed bodies; the order, and so the sorting, is kept. Returns the
-    /// elastic energy the dropped contacts held. The per-body index lists are stale until the next
+    /// elastic energy the dropped contacts held whose body `a` is `counted` (by its old index). The per-body index lists are stale until the next
     /// [`ContactStore::set_candidates`].
-    pub fn renumber(&mut self, new_index: &[u32]) -> f64 {
+    pub fn renumber(&mut self, new_index: &[u32], counted: impl Fn(usize) -> bool) -> f64 {
         let mut lost = 0.0;
         let mut kept = 0;
         let e = &mut self.entries;
@@ -297,7 +324,7 @@ impl ContactStore {
                 wall => wall,
             };
             if a == u32::MAX || partner == Partner::Body(u32::MAX) {
-                if e.touching[k] {
+                if e.touching[k] && counted(key.a as usize) {
                     lost += self.report[k].elastic_energy;
                 }
                 continue;
@@ -488,12 +515,20 @@ impl ContactStore {
     /// Sets what the pairs with several regions touch this step: `assigned[g]` for the pair whose
     /// entries start at `regional()[g]`. Returns the energy the dropped histories held (see
     /// [`ContactStore::set_region`]).
-    pub(crate) fn set_regions(&mut self, assigned: &[[Assigned; MAX_REGIONS]]) -> f64 {
+    pub(crate) fn set_regions(
+        &mut self,
+        assigned: &[[Assigned; MAX_REGIONS]],
+        bodies: &Bodies,
+    ) -> f64 {
         let mut lost = 0.0;
         for (g, assigned) in assigned.iter().enumerate() {
             let first = self.regional[g] as usize;
+            let counts = bodies.counts(self.entries.key[first].a as usize);
             for (k, a) in assigned.iter().enumerate() {
-                lost += self.set_region(first + k, a.geometry, a.fresh);
+                let l = self.set_region(first + k, a.geometry, a.fresh);
+                if counts {
+                    lost += l;
+                }
             }
         }
         lost
@@ -597,6 +632,14 @@ mod tests {
         }
     }
 
+    /// `n` bodies with ids `0..n`, none a ghost: what the store reads of bodies.
+    fn numbered(n: u64) -> Bodies {
+        Bodies {
+            id: (0..n).collect(),
+            ..Bodies::default()
+        }
+    }
+
     fn candidate(a: u32, partner: Partner) -> Candidate {
         Candidate {
             a,
@@ -623,7 +666,7 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        store.set_candidates(&first, &[0, 1, 2], false, false);
+        store.set_candidates(&first, &numbered(3), false, false);
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
         store.entries.history[e].tangential_stiffness = 4.0;
@@ -633,14 +676,21 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        assert_eq!(store.set_candidates(&second, &[0, 1, 2], false, false), 0.0);
+        assert_eq!(
+            store.set_candidates(&second, &numbered(3), false, false),
+            0.0
+        );
         let history = |s: &ContactStore, k: usize| s.entries.history[k];
         assert_eq!(history(&store, 0), History::default());
         assert_eq!(history(&store, 1).tangential_spring, DVec3::X);
         assert!(store.touching()[1]);
         // A touching contact that drops out gives back the energy its springs held.
-        let lost =
-            store.set_candidates(&[candidate(0, Partner::Body(2))], &[0, 1, 2], false, false);
+        let lost = store.set_candidates(
+            &[candidate(0, Partner::Body(2))],
+            &numbered(3),
+            false,
+            false,
+        );
         assert_eq!(lost, 0.5 * 4.0);
     }
 
@@ -653,9 +703,9 @@ mod tests {
             candidate(0, Partner::Body(1)),
             candidate(1, Partner::Body(2)),
         ];
-        store.set_candidates(&pairs, &[0, 1, 2], false, false);
+        store.set_candidates(&pairs, &numbered(3), false, false);
         assert!(store.iter().all(|c| c.spin.is_none()));
-        store.set_candidates(&pairs, &[0, 1, 2], false, true);
+        store.set_candidates(&pairs, &numbered(3), false, true);
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.spin[e] = SpinHistory {
             rolling_torque: DVec3::Y,
@@ -663,10 +713,10 @@ mod tests {
             ..SpinHistory::default()
         };
         let more = [pairs[0], candidate(0, Partner::Body(2)), pairs[1]];
-        assert_eq!(store.set_candidates(&more, &[0, 1, 2], false, true), 0.0);
+        assert_eq!(store.set_candidates(&more, &numbered(3), false, true), 0.0);
         let c = store.iter().find(|c| c.key.a == 1).unwrap();
         assert_eq!(c.spin.unwrap().rolling_torque, DVec3::Y);
-        let lost = store.set_candidates(&more[..2], &[0, 1, 2], false, true);
+        let lost = store.set_candidates(&more[..2], &numbered(3), false, true);
         assert_eq!(lost, 0.5 / 0.25);
     }
 
@@ -715,7 +765,7 @@ mod tests {
                     .filter(|(k, s)| s.1 && !fresh.contains_key(k))
                     .map(|(_, s)| 0.5 * s.2.length_squared() + if spins { s.3.length_squared() } else { 0.0 })
                     .sum();
-                let lost = store.set_candidates(&candidates, &[0, 1, 2, 3, 4, 5], false, spins);
+                let lost = store.set_candidates(&candidates, &numbered(6), false, spins);
                 model = fresh;
                 proptest::prop_assert!((lost - expected_lost).abs() <= 1e-12 * (1.0 + expected_lost));
                 let keys: Vec<ContactKey> = model.keys().copied().collect();
@@ -771,7 +821,7 @@ mod tests {
                 kind: PairKind::Regional,
             },
         ];
-        store.set_candidates(&list, &[0, 1, 2], true, true);
+        store.set_candidates(&list, &numbered(3), true, true);
         assert_eq!(store.entries(), 3 + MAX_REGIONS);
         assert_eq!(store.own(0), 0..2);
         assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
@@ -790,10 +840,10 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, &[0, 1, 2], true, true);
+        store.set_candidates(&list, &numbered(3), true, true);
         let e = touch(&mut store, 0, Partner::Body(1));
         store.report[e].elastic_energy = 2.0;
-        let lost = store.renumber(&[0, u32::MAX, 1]);
+        let lost = store.renumber(&[0, u32::MAX, 1], |_| true);
         assert_eq!(lost, 2.0);
         let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();
         assert_eq!(keys, vec![(0, Partner::Body(1)), (1, Partner::Plane(0))]);

@@ -11,10 +11,12 @@
 //! scene several times over.
 
 pub mod bisection;
+pub mod in_process;
 #[cfg(feature = "mpi")]
 pub mod mpi_count;
 
 pub use bisection::{BodyCounter, Decomposition, LocalBodies, Region};
+pub use in_process::InProcessRanks;
 
 /// The number of processes an MPI launcher started this one among, read from the variables Open
 /// MPI (`OMPI_COMM_WORLD_SIZE`) and MPICH-derived launchers (`PMI_SIZE`) set; 1 when none is set.

@@ -85,7 +85,7 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
             })
         })
         .collect_into_vec(&mut regions.assigned);
-    store.set_regions(&regions.assigned)
+    store.set_regions(&regions.assigned, scene.bodies)
 }
 
 /// The geometry of a run of entries of pairs that touch in one place at most (regional entries

@@ -257,6 +257,7 @@ pub fn accumulate(
         inv_inertia,
         force,
         torque,
+        ghost,
         ..
     } = bodies;
     let orientation = &*orientation;
@@ -298,12 +299,28 @@ pub fn accumulate(
                 kick.apply(body, f, t);
             }
         });
-    // Summed in fixed chunks, then the chunks in order: the same figure for any thread count.
-    store
-        .reports()
-        .par_chunks(4096)
-        .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
-        .collect_into_vec(partial);
+    // Summed in fixed chunks, then the chunks in order: the same figure for any thread count. A
+    // ghost's contacts are left to its owner.
+    if ghost.is_empty() {
+        store
+            .reports()
+            .par_chunks(4096)
+            .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
+            .collect_into_vec(partial);
+    } else {
+        store
+            .reports()
+            .par_chunks(4096)
+            .zip(store.keys().par_chunks(4096))
+            .map(|(c, k)| {
+                c.iter()
+                    .zip(k)
+                    .filter(|(_, k)| !ghost[k.a as usize])
+                    .map(|(r, _)| r.dissipated)
+                    .sum::<f64>()
+            })
+            .collect_into_vec(partial);
+    }
     partial.iter().sum()
 }
 

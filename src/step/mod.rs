@@ -25,7 +25,7 @@ pub use candidates::{NeighbourSearch, SearchState};
 pub use detect::{detect_regions, RegionOutput, Scene};
 pub use forces::{accumulate, LawInputs};
 pub use timing::{StageTimes, Stopwatch};
-pub use wall_loads::WallLoads;
+pub use wall_loads::{WallLoads, WallsNow};
 
 use crate::contact::{ContactStore, EntryIds, EntryState};
 use rayon::iter::Either;

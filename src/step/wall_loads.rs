@@ -1,9 +1,20 @@
 //! What the contacts do to the walls: the impulse and angular impulse each wall takes, and the work
 //! moving walls do on the bodies (the energy they bring in).
 
+use crate::body::Bodies;
 use crate::contact::{ContactStore, Partner};
 use crate::math::DVec3;
 use crate::wall::{MeshWall, Plane, WallState};
+
+/// The walls as they are: planes, mesh walls, each mesh wall's motion over the step and at its
+/// end (`None` for a fixed wall), and the time the mesh walls' poses are at.
+#[derive(Clone, Copy)]
+pub struct WallsNow<'a> {
+    pub planes: &'a [Plane],
+    pub meshes: &'a [MeshWall],
+    pub states: &'a [Option<[WallState; 2]>],
+    pub time: f64,
+}
 
 /// Running totals per wall (planes first, then mesh walls: the numbering of the output's `wall`).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -22,16 +33,14 @@ pub struct WallLoads {
 impl WallLoads {
     /// Books the contacts' reactions on the walls over the step `dt` (0 for a fresh evaluation,
     /// which only sets the power the next step's work starts from). `wall_time` is when the mesh
-    /// walls are where they are.
-    pub fn book(
-        &mut self,
-        store: &ContactStore,
-        planes: &[Plane],
-        walls: &[MeshWall],
-        wall_states: &[Option<[WallState; 2]>],
-        wall_time: f64,
-        dt: f64,
-    ) {
+    /// walls are where they are. A ghost's contacts are left to its owner (`Bodies::ghost`).
+    pub fn book(&mut self, store: &ContactStore, bodies: &Bodies, walls: WallsNow, dt: f64) {
+        let WallsNow {
+            planes,
+            meshes: walls,
+            states: wall_states,
+            time: wall_time,
+        } = walls;
         let count = planes.len() + walls.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
@@ -39,7 +48,7 @@ impl WallLoads {
         let mut power = 0.0;
         for &e in store.wall_entries() {
             let e = e as usize;
-            if !touching[e] {
+            if !touching[e] || !bodies.counts(store.keys()[e].a as usize) {
                 continue;
             }
             // For a wall partner the load's second moment is the law's couple on the body.

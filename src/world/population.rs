@@ -46,7 +46,7 @@ impl World {
     }
 
     /// Removes the bodies whose `keep` flag is false, with their contacts; their energy is
-    /// booked as carried out.
+    /// booked as carried out (a ghost's by its owner).
     pub fn remove_bodies(&mut self, keep: &[bool]) {
         let mut new_index = Vec::with_capacity(keep.len());
         let mut next = 0u32;
@@ -56,14 +56,17 @@ impl World {
                 next += 1;
             } else {
                 new_index.push(u32::MAX);
-                self.energy_removed += self.body_energy(i);
-                self.bodies_removed += 1;
+                if self.bodies.counts(i) {
+                    self.energy_removed += self.body_energy(i);
+                    self.bodies_removed += 1;
+                }
             }
         }
         if next as usize == keep.len() {
             return;
         }
-        self.energy_removed += self.contacts.renumber(&new_index);
+        let bodies = &self.bodies;
+        self.energy_removed += self.contacts.renumber(&new_index, |i| bodies.counts(i));
         self.bodies.retain(keep);
         self.structure_changed();
     }

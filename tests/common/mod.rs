@@ -3,6 +3,8 @@
 // Each test file compiles this module on its own and uses only some of it.
 #![allow(dead_code)]
 
+pub mod drum;
+
 use polydem::contact_law::NormalLaw;
 use polydem::material::{Material, PairTable};
 use polydem::math::DVec3;
