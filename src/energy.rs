@@ -42,3 +42,22 @@ impl EnergyReport {
             - self.gravity_work
     }
 }
+
+/// The ledgers of the shares of a decomposed world, added up: the whole's (each share counts its
+/// own bodies and contacts).
+impl std::iter::Sum for EnergyReport {
+    fn sum<I: Iterator<Item = Self>>(reports: I) -> Self {
+        reports.fold(EnergyReport::default(), |t, e| EnergyReport {
+            kinetic_translational: t.kinetic_translational + e.kinetic_translational,
+            kinetic_rotational: t.kinetic_rotational + e.kinetic_rotational,
+            potential: t.potential + e.potential,
+            elastic: t.elastic + e.elastic,
+            dissipated: t.dissipated + e.dissipated,
+            removed: t.removed + e.removed,
+            inserted: t.inserted + e.inserted,
+            wall_work: t.wall_work + e.wall_work,
+            gravity_work: t.gravity_work + e.gravity_work,
+            contacts: t.contacts + e.contacts,
+        })
+    }
+}

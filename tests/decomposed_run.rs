@@ -53,7 +53,7 @@ fn decomposed_run_matches_a_single_world(ranks: usize) {
             shares.step().expect("every contact finds its entry");
         }
         steps += n;
-        let parts: Vec<&World> = shares.shares().iter().collect();
+        let parts: Vec<&World> = shares.shares().collect();
         assert!(
             owned_bodies(&[&single]) == owned_bodies(&parts),
             "{ranks} ranks differ from one world after {steps} steps"
@@ -70,9 +70,15 @@ fn decomposed_run_matches_a_single_world(ranks: usize) {
     }
     let (one, all) = (single.energy(), shares.energy());
     println!(
-        "{ranks} ranks, {steps} steps: {} redraws, {} bodies changed owner, up to {most_ghosts} \
-         ghosts; dissipated {:e} vs {:e}, elastic {:e} vs {:e}",
-        shares.redraws, shares.migrations, one.dissipated, all.dissipated, one.elastic, all.elastic
+        "{ranks} ranks, {steps} steps: {} redraws, {} cuts, {} bodies changed owner, up to \
+         {most_ghosts} ghosts; dissipated {:e} vs {:e}, elastic {:e} vs {:e}",
+        shares.redraws,
+        shares.rebalances,
+        shares.migrations,
+        one.dissipated,
+        all.dissipated,
+        one.elastic,
+        all.elastic
     );
     assert!(shares.redraws >= 5, "only {} redraws", shares.redraws);
     assert!(

@@ -14,6 +14,7 @@ pub mod bisection;
 pub mod in_process;
 #[cfg(feature = "mpi")]
 pub mod mpi_count;
+pub mod share;
 
 pub use bisection::{BodyCounter, Decomposition, LocalBodies, Region};
 pub use in_process::InProcessRanks;

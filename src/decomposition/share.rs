@@ -1,0 +1,258 @@
+//! One rank's share of a decomposed world, and the rank's own half of every exchange: what it
+//! sends each other rank and what it does with what it receives. How the bytes travel is the
+//! transport's: [`super::InProcessRanks`] copies them between shares in one process, MPI ranks
+//! send them (`mpi_run`). So the MPI run is the in-process run with another transport.
+//!
+//! The design (`docs/mpi-plan.md`):
+//! - **Shares.** Space is cut among the ranks by recursive coordinate bisection by body count
+//!   ([`Decomposition`]); a rank owns the bodies in its region and holds as ghosts every body
+//!   within the ghost layer of it: twice the largest bounding radius (the reach of a contact) and
+//!   two skins (how far two bodies may move towards each other before the shares are redrawn,
+//!   with a margin).
+//! - **Every step**, each share steps all its bodies; then each ghost takes its owner's state
+//!   (position, orientation, velocities, forces: [`Share::states_for`]): the owner summed every
+//!   contact of the body, the ghost's holder only some.
+//! - **Redrawing** ([`Share::deliveries`], [`Share::receive`]). Before any body would move half a
+//!   skin from where the shares were drawn ([`World::predicted_search_move`], a maximum over the
+//!   ranks), or when bodies left the domain, bodies change hands, ghosts come and go, and each
+//!   share makes its candidate list again. A body that changes owner brings its contacts'
+//!   histories from its old owner ([`World::contact_records`]): the new owner held it as a
+//!   ghost, but a ghost's contacts with other ghosts are not the exact ones.
+//! - **Order.** Pairs are seen from the body of smaller id, and each body sums its contacts by
+//!   its partners' ids (`contact::ContactKey::order`), so the share's numbering changes no bit.
+
+use super::Decomposition;
+use crate::body::{BodyMotionState, BodyRecord};
+use crate::contact::{EntryRecord, UnplacedContact};
+use crate::math::DVec3;
+use crate::world::World;
+use std::collections::HashMap;
+
+/// Shares are redrawn when a body would come this far (in skins) from where they were drawn:
+/// under the half skin the ghost layer allows for, so that round-off in the prediction does not
+/// matter.
+pub const REDRAW_AT: f64 = 0.45;
+
+/// What one share sends another when the shares are redrawn: the bodies the receiver is to hold
+/// (those the sender owned), and the contacts of those the receiver takes over.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Delivery {
+    pub bodies: Vec<BodyRecord>,
+    pub contacts: Vec<(u64, Vec<EntryRecord>)>,
+}
+
+/// One rank's share of a decomposed world.
+pub struct Share {
+    world: World,
+    rank: usize,
+    /// Thickness of the ghost layer [m] (the same on every rank).
+    layer: f64,
+    /// Per rank: the owned bodies it holds as ghosts, by local index, in order of id.
+    send: Vec<Vec<u32>>,
+    /// Per rank: the ghosts it owns, by local index, in order of id.
+    receive: Vec<Vec<u32>>,
+    /// The body count after the last exchange (bodies leaving the domain change it).
+    count: usize,
+}
+
+impl Share {
+    /// Rank `rank`'s share of `world`, a whole copy of the world every rank starts from (built
+    /// the same way on every rank, forces found), with the cuts `cuts`: it owns the bodies in its
+    /// region. The shares must then be drawn ([`Share::deliveries`], [`Share::receive`]).
+    pub fn new(mut world: World, rank: usize, cuts: &Decomposition) -> Self {
+        world.update_contacts();
+        // The share's numbering is its own business; bodies keep the order they came in.
+        world.set_sort_interval(0);
+        let b = world.bodies();
+        let largest = b.bounding_radius.iter().fold(0.0, |m: f64, &r| m.max(r));
+        let layer = 2.0 * largest + 2.0 * world.skin();
+        let ghost: Vec<bool> = b.position.iter().map(|&x| cuts.owner(x) != rank).collect();
+        world.set_ghosts(&ghost);
+        let count = world.bodies().len();
+        Share {
+            world,
+            rank,
+            layer,
+            send: vec![Vec::new(); cuts.ranks()],
+            receive: vec![Vec::new(); cuts.ranks()],
+            count,
+        }
+    }
+
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// The places of the bodies this share owns.
+    pub fn owned_places(&self) -> Vec<DVec3> {
+        let b = self.world.bodies();
+        (0..b.len())
+            .filter(|&i| !b.is_ghost(i))
+            .map(|i| b.position[i])
+            .collect()
+    }
+
+    /// One step of every body the share holds, and the forces found again if bodies left the
+    /// domain (as a single world finds them before its next step). Returns whether bodies left:
+    /// the shares must then be redrawn, not merely exchanged.
+    pub fn step(&mut self) -> bool {
+        self.world.step();
+        self.world.update_contacts();
+        self.world.bodies().len() != self.count
+    }
+
+    /// How far a body will be, after the next step's drift, from where the candidate list was
+    /// made (see [`World::predicted_search_move`]).
+    pub fn predicted_move(&self) -> f64 {
+        self.world.predicted_search_move()
+    }
+
+    /// Whether the shares must be redrawn before the next step, given the largest
+    /// [`Share::predicted_move`] over the ranks.
+    pub fn must_redraw(&self, largest_move: f64) -> bool {
+        largest_move > REDRAW_AT * self.world.skin()
+    }
+
+    /// The state of the bodies rank `to` holds as ghosts of this share's, in order of id.
+    pub fn states_for(&self, to: usize) -> Vec<BodyMotionState> {
+        let b = self.world.bodies();
+        self.send[to]
+            .iter()
+            .map(|&i| b.motion_state(i as usize))
+            .collect()
+    }
+
+    /// Gives the ghosts rank `from` owns the states it sent ([`Share::states_for`]).
+    pub fn take_states(&mut self, from: usize, states: &[BodyMotionState]) {
+        assert_eq!(
+            states.len(),
+            self.receive[from].len(),
+            "rank {from} sent {} states for {} ghosts of rank {}",
+            states.len(),
+            self.receive[from].len(),
+            self.rank
+        );
+        for (&i, state) in self.receive[from].iter().zip(states) {
+            self.world.set_motion_state(i as usize, state);
+        }
+    }
+
+    /// What this share sends each rank (itself included) when the shares are redrawn with the
+    /// cuts `cuts`: each owned body to every rank that is to hold it, and its contacts to its new
+    /// owner if that is another rank. Returns them with the number of bodies changing owner.
+    pub fn deliveries(&self, cuts: &Decomposition) -> (Vec<Delivery>, u64) {
+        let b = self.world.bodies();
+        let mut out: Vec<Delivery> = vec![Delivery::default(); cuts.ranks()];
+        let mut migrations = 0;
+        for i in (0..b.len()).filter(|&i| !b.is_ghost(i)) {
+            let x = b.position[i];
+            let record = b.record(i);
+            for r in cuts.ranks_near(x, self.layer) {
+                out[r].bodies.push(record);
+            }
+            let owner = cuts.owner(x);
+            if owner != self.rank {
+                migrations += 1;
+                let contacts = self.world.contact_records(i);
+                out[owner].contacts.push((b.id[i], contacts));
+            }
+        }
+        (out, migrations)
+    }
+
+    /// Takes what every rank sent ([`Share::deliveries`], by sender) when the shares were drawn
+    /// with `cuts`: holds the bodies sent, in the state sent, drops the others, marks the ghosts,
+    /// makes the candidate list again, takes over the contacts of the bodies it now owns, and
+    /// makes the lists of the per-step exchange.
+    pub fn receive(
+        &mut self,
+        cuts: &Decomposition,
+        deliveries: Vec<Delivery>,
+    ) -> Result<(), UnplacedContact> {
+        let sent: HashMap<u64, &BodyRecord> = deliveries
+            .iter()
+            .flat_map(|d| &d.bodies)
+            .map(|r| (r.id, r))
+            .collect();
+        let keep: Vec<bool> = self
+            .world
+            .bodies()
+            .id
+            .iter()
+            .map(|id| sent.contains_key(id))
+            .collect();
+        self.world.keep_share(&keep);
+        let index = self.world.index_by_id();
+        let mut new: Vec<&BodyRecord> = Vec::new();
+        for (id, record) in &sent {
+            match index.get(id) {
+                Some(&i) => self.world.set_motion_state(i, &record.motion),
+                None => new.push(record),
+            }
+        }
+        // In order of id, so that every transport builds the same share.
+        new.sort_unstable_by_key(|r| r.id);
+        for record in new {
+            self.world.hold_ghost(record);
+        }
+        let b = self.world.bodies();
+        let owner: Vec<usize> = b.position.iter().map(|&x| cuts.owner(x)).collect();
+        let ghost: Vec<bool> = owner.iter().map(|&o| o != self.rank).collect();
+        self.world.set_ghosts(&ghost);
+        self.world.refresh_candidates();
+        let index = self.world.index_by_id();
+        for (id, records) in deliveries.iter().flat_map(|d| &d.contacts) {
+            self.world.adopt_contacts(index[id], &index, records)?;
+        }
+        self.index_exchange(cuts, &owner);
+        Ok(())
+    }
+
+    /// The lists of the per-step exchange: which owned bodies go to which rank, which ghosts come
+    /// from which, both in order of id, so that sender and receiver agree on the order.
+    fn index_exchange(&mut self, cuts: &Decomposition, owner: &[usize]) {
+        let b = self.world.bodies();
+        for list in self.send.iter_mut().chain(self.receive.iter_mut()) {
+            list.clear();
+        }
+        for i in 0..b.len() {
+            if owner[i] == self.rank {
+                for r in cuts.ranks_near(b.position[i], self.layer) {
+                    if r != self.rank {
+                        self.send[r].push(i as u32);
+                    }
+                }
+            } else {
+                self.receive[owner[i]].push(i as u32);
+            }
+        }
+        let id = &b.id;
+        for list in self.send.iter_mut().chain(self.receive.iter_mut()) {
+            list.sort_unstable_by_key(|&i| id[i as usize]);
+        }
+        self.count = b.len();
+    }
+
+    /// Makes this share's running totals its part of the whole's (see
+    /// [`World::take_share_of_totals`]): rank 0 keeps them, the others start from zero.
+    pub fn take_share_of_totals(&mut self) {
+        self.world.take_share_of_totals(self.rank == 0);
+    }
+}
+
+/// The number of bodies each rank owns, over the ranks: the largest over the mean (1: balanced).
+pub fn imbalance(owned: &[u64]) -> f64 {
+    let total: u64 = owned.iter().sum();
+    let largest = owned.iter().copied().max().unwrap_or(0);
+    if total == 0 {
+        return 1.0;
+    }
+    largest as f64 * owned.len() as f64 / total as f64
+}
+
+/// Recompute the cuts when the ranks' body counts drift this far apart (max over mean).
+pub const REBALANCE_AT: f64 = 1.10;
