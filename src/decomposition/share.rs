@@ -219,15 +219,15 @@ impl Share {
         for list in self.send.iter_mut().chain(self.receive.iter_mut()) {
             list.clear();
         }
-        for i in 0..b.len() {
-            if owner[i] == self.rank {
+        for (i, &owner) in owner.iter().enumerate() {
+            if owner == self.rank {
                 for r in cuts.ranks_near(b.position[i], self.layer) {
                     if r != self.rank {
                         self.send[r].push(i as u32);
                     }
                 }
             } else {
-                self.receive[owner[i]].push(i as u32);
+                self.receive[owner].push(i as u32);
             }
         }
         let id = &b.id;
