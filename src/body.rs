@@ -49,6 +49,45 @@ pub struct BodyMotionState {
     pub torque: DVec3,
 }
 
+impl BodyMotionState {
+    /// Numbers per state in [`BodyMotionState::to_array`].
+    pub const LEN: usize = 22;
+
+    /// The state as plain numbers (for a transport that sends arrays of numbers).
+    pub fn to_array(&self) -> [f64; Self::LEN] {
+        let mut a = [0.0; Self::LEN];
+        let parts: [&[f64]; 7] = [
+            &self.position.to_array(),
+            &self.orientation.to_array(),
+            &self.velocity.to_array(),
+            &self.angular_momentum.to_array(),
+            &self.angular_velocity.to_array(),
+            &self.force.to_array(),
+            &self.torque.to_array(),
+        ];
+        let mut k = 0;
+        for part in parts {
+            a[k..k + part.len()].copy_from_slice(part);
+            k += part.len();
+        }
+        a
+    }
+
+    /// The state [`BodyMotionState::to_array`] gave (`a` holds [`BodyMotionState::LEN`] numbers).
+    pub fn from_slice(a: &[f64]) -> Self {
+        let v = |k: usize| DVec3::from_slice(&a[k..k + 3]);
+        BodyMotionState {
+            position: v(0),
+            orientation: DQuat::from_slice(&a[3..7]),
+            velocity: v(7),
+            angular_momentum: v(10),
+            angular_velocity: v(13),
+            force: v(16),
+            torque: v(19),
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bodies {
     /// User-visible identifier, stable for the life of the body.
@@ -277,5 +316,26 @@ impl Bodies {
         if !self.ghost.is_empty() {
             permute_in_place(&mut self.ghost, order, done);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_motion_state_goes_through_an_array_bit_for_bit() {
+        let s = BodyMotionState {
+            position: DVec3::new(1.0, -2.0, 3.5),
+            orientation: DQuat::from_xyzw(0.1, 0.2, 0.3, 0.927),
+            velocity: DVec3::new(-0.0, 1e-300, f64::MAX),
+            angular_momentum: DVec3::new(4.0, 5.0, 6.0),
+            angular_velocity: DVec3::new(7.0, 8.0, 9.0),
+            force: DVec3::new(10.0, 11.0, 12.0),
+            torque: DVec3::new(13.0, 14.0, 15.0),
+        };
+        let back = BodyMotionState::from_slice(&s.to_array());
+        assert_eq!(back, s);
+        assert!(back.velocity.x.is_sign_negative());
     }
 }

@@ -1,13 +1,21 @@
-//! The domain decomposition computed together by every rank (issue #17): run under MPI,
-//! `mpirun -np N target/release/deps/mpi_decomposition-…` (`.ci/mpi` does, with 2 and 3 ranks).
-//! Each rank holds different bodies; the decomposition they build from global counts must be the
-//! one a single process builds from all the bodies, to the bit, and must give every rank its
-//! share of them.
+//! The domain decomposition computed together by every rank, and a run decomposed among them
+//! (issue #17): run under MPI, `mpirun -np N target/release/deps/mpi_decomposition-…`
+//! (`.ci/mpi` does, with 2 and 3 ranks).
+//! - Each rank holds different bodies; the decomposition they build from global counts must be
+//!   the one a single process builds from all the bodies, to the bit, and must give every rank
+//!   its share of them.
+//! - The drum of every contact kind (`common::drum`), stepped by the ranks together
+//!   (`MpiRanks`), must give every body the bits a single world gives it, which rank 0 steps
+//!   beside them; and the ledger, added up over the ranks, the single world's to round-off.
 
+mod common;
+
+use common::drum::drum;
 use mpi::collective::SystemOperation;
 use mpi::datatype::PartitionMut;
 use mpi::traits::*;
 use polydem::decomposition::mpi_count::DistributedBodies;
+use polydem::decomposition::mpi_ranks::MpiRanks;
 use polydem::decomposition::{Decomposition, LocalBodies};
 use polydem::math::DVec3;
 use polydem::rng::SplitMix64;
@@ -75,6 +83,8 @@ fn main() {
     let (floor, ceil) = (n / size as u64, n.div_ceil(size as u64));
     let balanced = total.iter().sum::<u64>() == n && total.iter().all(|&c| c == floor || c == ceil);
 
+    let decomposed = decomposed_run_is_one_world(&world);
+
     // Each check holds only if it holds on every rank.
     let checks = [
         (
@@ -82,6 +92,10 @@ fn main() {
             same,
         ),
         ("every rank owns its share of the bodies", balanced),
+        (
+            "a decomposed run gives every body the bits of one world",
+            decomposed,
+        ),
     ];
     let mut failed = 0;
     for (what, holds) in checks {
@@ -101,4 +115,89 @@ fn main() {
     if failed > 0 {
         std::process::exit(1);
     }
+}
+
+/// Every owned body's id and state as bits, this rank's, as one array (id, then 22 numbers).
+fn owned_bits(w: &polydem::World) -> Vec<u64> {
+    let b = w.bodies();
+    let mut bits = Vec::new();
+    for i in (0..b.len()).filter(|&i| !b.is_ghost(i)) {
+        bits.push(b.id[i]);
+        bits.extend(b.motion_state(i).to_array().map(f64::to_bits));
+    }
+    bits
+}
+
+/// The drum stepped by the ranks together and, on rank 0, by a single world beside them: the
+/// bodies' states gathered on rank 0 must be the single world's, bit for bit, after every stretch
+/// of steps. True on every rank if so.
+fn decomposed_run_is_one_world(world: &impl Communicator) -> bool {
+    let rank = world.rank();
+    let mut ranks = MpiRanks::new(drum(), world).expect("the shares are drawn");
+    let mut single = (rank == 0).then(drum);
+    let dt = ranks.world().time_step();
+    // 0.15 s: the bodies fall into the drum and tumble in it.
+    let total = (0.15 / dt).round() as u64;
+    let (mut steps, mut ok) = (0, true);
+    while steps < total && ok {
+        let n = 1000.min(total - steps);
+        for _ in 0..n {
+            ranks.step().expect("every contact finds its entry");
+        }
+        steps += n;
+        let mine = owned_bits(ranks.world());
+        let mut counts = vec![0i32; world.size() as usize];
+        world.all_gather_into(&(mine.len() as i32), &mut counts[..]);
+        let starts: Vec<i32> = counts
+            .iter()
+            .scan(0, |at, &c| {
+                let start = *at;
+                *at += c;
+                Some(start)
+            })
+            .collect();
+        let mut all = vec![0u64; counts.iter().sum::<i32>() as usize];
+        world.all_gather_varcount_into(
+            &mine[..],
+            &mut PartitionMut::new(&mut all[..], &counts[..], &starts[..]),
+        );
+        let mut same = true;
+        if let Some(single) = single.as_mut() {
+            single.run_steps(n);
+            let gathered: std::collections::BTreeMap<u64, &[u64]> =
+                all.chunks(23).map(|c| (c[0], &c[1..])).collect();
+            let expected = owned_bits(single);
+            let expected: std::collections::BTreeMap<u64, &[u64]> =
+                expected.chunks(23).map(|c| (c[0], &c[1..])).collect();
+            same = gathered == expected && all.len() == 23 * expected.len();
+            if !same {
+                eprintln!("rank 0: the decomposed run differs from one world after {steps} steps");
+            }
+        }
+        let mut everywhere = 0i32;
+        world.all_reduce_into(&(same as i32), &mut everywhere, SystemOperation::min());
+        ok = everywhere == 1;
+    }
+    let energy = ranks.energy();
+    let redraws = ranks.total(ranks.redraws);
+    let migrations = ranks.total(ranks.migrations);
+    if let Some(single) = &single {
+        let e = single.energy();
+        let scale = e.dissipated.abs() + e.potential.abs();
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * scale;
+        ok &= close(e.kinetic_translational, energy.kinetic_translational)
+            && close(e.elastic, energy.elastic)
+            && close(e.dissipated, energy.dissipated)
+            && e.contacts == energy.contacts;
+        println!(
+            "decomposed drum on {} ranks: {steps} steps, {} redraws (summed over ranks), {} \
+             bodies changed owner; dissipated {:e} (one world {:e})",
+            world.size(),
+            redraws,
+            migrations,
+            energy.dissipated,
+            e.dissipated
+        );
+    }
+    ok
 }

@@ -14,6 +14,8 @@ pub mod bisection;
 pub mod in_process;
 #[cfg(feature = "mpi")]
 pub mod mpi_count;
+#[cfg(feature = "mpi")]
+pub mod mpi_ranks;
 pub mod share;
 
 pub use bisection::{BodyCounter, Decomposition, LocalBodies, Region};

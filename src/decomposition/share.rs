@@ -126,6 +126,11 @@ impl Share {
             .collect()
     }
 
+    /// The number of this share's ghosts that rank `from` owns (the states it sends each step).
+    pub fn ghosts_from(&self, from: usize) -> usize {
+        self.receive[from].len()
+    }
+
     /// Gives the ghosts rank `from` owns the states it sent ([`Share::states_for`]).
     pub fn take_states(&mut self, from: usize, states: &[BodyMotionState]) {
         assert_eq!(

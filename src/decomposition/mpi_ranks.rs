@@ -1,0 +1,246 @@
+//! The decomposed step on MPI ranks: this process's [`Share`], with what it sends the other ranks
+//! moving through MPI collectives. Everything else is the in-process run's
+//! ([`super::InProcessRanks`]), so the two give the same bits (`tests/mpi_decomposition.rs`
+//! holds `mpirun -np 2` and `-np 3` to a single world).
+//!
+//! Per step: one `MPI_Allreduce` (did bodies leave the domain?), the ghosts' states (an
+//! `MPI_Alltoallv` of 22 numbers per ghost: each rank knows how many it receives from whom), and
+//! one `MPI_Allreduce` (the largest predicted move). When the shares are redrawn: the owned counts
+//! (one reduction; the cuts are made again, with a reduction per bisection probe, only when they
+//! drifted apart), and the deliveries as MessagePack bytes (`MPI_Alltoall` of the sizes, then
+//! `MPI_Alltoallv`). Every rank sends every other rank something, possibly nothing: fine for the
+//! rank counts of one machine; neighbour-only messages are for later (`docs/mpi-plan.md`).
+
+use super::mpi_count::DistributedBodies;
+use super::share::{imbalance, Delivery, Share, REBALANCE_AT};
+use super::{Decomposition, LocalBodies};
+use crate::body::BodyMotionState;
+use crate::energy::EnergyReport;
+use crate::world::World;
+use mpi::collective::SystemOperation;
+use mpi::datatype::{Partition, PartitionMut};
+use mpi::traits::*;
+
+/// Why a decomposed run cannot go on.
+#[derive(Debug, thiserror::Error)]
+pub enum MpiRunError {
+    #[error(transparent)]
+    Unplaced(#[from] crate::contact::UnplacedContact),
+    #[error("rank {rank} could not read what rank {from} sent: {why}")]
+    Garbled {
+        rank: usize,
+        from: usize,
+        why: String,
+    },
+}
+
+/// This process's share of a world decomposed among the ranks of `communicator`.
+pub struct MpiRanks<'c, C: Communicator> {
+    share: Share,
+    communicator: &'c C,
+    cuts: Decomposition,
+    /// Times the shares were drawn, times the cuts were made, and bodies that changed owner
+    /// (this rank's; see [`MpiRanks::total`]).
+    pub redraws: u64,
+    pub rebalances: u64,
+    pub migrations: u64,
+}
+
+impl<'c, C: Communicator> MpiRanks<'c, C> {
+    /// This rank's share of `world`, which every rank built the same (the whole scene).
+    pub fn new(world: World, communicator: &'c C) -> Result<Self, MpiRunError> {
+        let (rank, ranks) = (communicator.rank() as usize, communicator.size() as usize);
+        // Every rank holds every body: the cuts need no communication yet.
+        let cuts = Decomposition::new(ranks, &mut LocalBodies(&world.bodies().position));
+        let share = Share::new(world, rank, &cuts);
+        let mut run = MpiRanks {
+            share,
+            communicator,
+            cuts,
+            redraws: 0,
+            rebalances: 1,
+            migrations: 0,
+        };
+        run.redraw()?;
+        run.share.take_share_of_totals();
+        Ok(run)
+    }
+
+    /// This rank's share.
+    pub fn world(&self) -> &World {
+        self.share.world()
+    }
+
+    /// One step of the whole (every rank calls it together).
+    pub fn step(&mut self) -> Result<(), MpiRunError> {
+        let left = self.share.step();
+        if self.any(left) {
+            return self.redraw();
+        }
+        self.exchange();
+        let moved = self.largest(self.share.predicted_move());
+        if self.share.must_redraw(moved) {
+            self.redraw()?;
+        }
+        Ok(())
+    }
+
+    /// The energy ledger of the whole, on every rank.
+    pub fn energy(&self) -> EnergyReport {
+        let e = self.share.world().energy();
+        let mine = [
+            e.kinetic_translational,
+            e.kinetic_rotational,
+            e.potential,
+            e.elastic,
+            e.dissipated,
+            e.removed,
+            e.inserted,
+            e.wall_work,
+            e.gravity_work,
+            e.contacts as f64,
+        ];
+        let mut all = [0.0; 10];
+        self.communicator
+            .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
+        EnergyReport {
+            kinetic_translational: all[0],
+            kinetic_rotational: all[1],
+            potential: all[2],
+            elastic: all[3],
+            dissipated: all[4],
+            removed: all[5],
+            inserted: all[6],
+            wall_work: all[7],
+            gravity_work: all[8],
+            contacts: all[9] as usize,
+        }
+    }
+
+    /// The sum of `value` over the ranks, on every rank.
+    pub fn total(&self, value: u64) -> u64 {
+        let mut sum = 0u64;
+        self.communicator
+            .all_reduce_into(&value, &mut sum, SystemOperation::sum());
+        sum
+    }
+
+    fn any(&self, flag: bool) -> bool {
+        self.total(flag as u64) > 0
+    }
+
+    fn largest(&self, value: f64) -> f64 {
+        let mut max = 0.0f64;
+        self.communicator
+            .all_reduce_into(&value, &mut max, SystemOperation::max());
+        max
+    }
+
+    /// Each ghost takes its owner's state.
+    fn exchange(&mut self) {
+        let ranks = self.communicator.size() as usize;
+        const N: usize = BodyMotionState::LEN;
+        let mut outgoing = Vec::new();
+        let mut send_counts = Vec::with_capacity(ranks);
+        for to in 0..ranks {
+            let states = self.share.states_for(to);
+            send_counts.push((states.len() * N) as i32);
+            outgoing.extend(states.iter().flat_map(|s| s.to_array()));
+        }
+        let receive_counts: Vec<i32> = (0..ranks)
+            .map(|from| (self.share.ghosts_from(from) * N) as i32)
+            .collect();
+        let incoming = self.all_to_all(&outgoing, &send_counts, &receive_counts);
+        let mut at = 0;
+        for (from, &count) in receive_counts.iter().enumerate() {
+            let count = count as usize;
+            let states: Vec<BodyMotionState> = incoming[at..at + count]
+                .chunks(N)
+                .map(BodyMotionState::from_slice)
+                .collect();
+            self.share.take_states(from, &states);
+            at += count;
+        }
+    }
+
+    /// Draws the shares again (see [`super::share`]).
+    fn redraw(&mut self) -> Result<(), MpiRunError> {
+        let ranks = self.communicator.size() as usize;
+        let rank = self.communicator.rank() as usize;
+        let places = self.share.owned_places();
+        let mut mine = vec![0u64; ranks];
+        for &x in &places {
+            mine[self.cuts.owner(x)] += 1;
+        }
+        let mut owned = vec![0u64; ranks];
+        self.communicator
+            .all_reduce_into(&mine[..], &mut owned[..], SystemOperation::sum());
+        if imbalance(&owned) > REBALANCE_AT {
+            self.cuts = Decomposition::new(
+                ranks,
+                &mut DistributedBodies {
+                    local: LocalBodies(&places),
+                    communicator: self.communicator,
+                },
+            );
+            self.rebalances += 1;
+        }
+        let (out, migrations) = self.share.deliveries(&self.cuts);
+        self.migrations += migrations;
+        let mut outgoing = Vec::new();
+        let mut send_counts = Vec::with_capacity(ranks);
+        for delivery in &out {
+            let bytes = rmp_serde::to_vec(delivery).expect("a delivery encodes");
+            send_counts.push(bytes.len() as i32);
+            outgoing.extend_from_slice(&bytes);
+        }
+        let mut receive_counts = vec![0i32; ranks];
+        self.communicator
+            .all_to_all_into(&send_counts[..], &mut receive_counts[..]);
+        let incoming = self.all_to_all(&outgoing, &send_counts, &receive_counts);
+        let mut deliveries = Vec::with_capacity(ranks);
+        let mut at = 0;
+        for (from, &count) in receive_counts.iter().enumerate() {
+            let bytes = &incoming[at..at + count as usize];
+            let delivery: Delivery =
+                rmp_serde::from_slice(bytes).map_err(|e| MpiRunError::Garbled {
+                    rank,
+                    from,
+                    why: e.to_string(),
+                })?;
+            deliveries.push(delivery);
+            at += count as usize;
+        }
+        self.share.receive(&self.cuts, deliveries)?;
+        self.redraws += 1;
+        Ok(())
+    }
+
+    /// `MPI_Alltoallv`: `outgoing` holds, rank after rank, `send_counts[r]` items for rank `r`;
+    /// returns, rank after rank, the `receive_counts[r]` items rank `r` sent this one.
+    fn all_to_all<T: Equivalence + Default + Clone>(
+        &self,
+        outgoing: &[T],
+        send_counts: &[i32],
+        receive_counts: &[i32],
+    ) -> Vec<T> {
+        let starts = |counts: &[i32]| -> Vec<i32> {
+            counts
+                .iter()
+                .scan(0, |at, &c| {
+                    let start = *at;
+                    *at += c;
+                    Some(start)
+                })
+                .collect()
+        };
+        let (send_starts, receive_starts) = (starts(send_counts), starts(receive_counts));
+        let total: i32 = receive_counts.iter().sum();
+        let mut incoming = vec![T::default(); total as usize];
+        self.communicator.all_to_all_varcount_into(
+            &Partition::new(outgoing, send_counts, &send_starts[..]),
+            &mut PartitionMut::new(&mut incoming[..], receive_counts, &receive_starts[..]),
+        );
+        incoming
+    }
+}
