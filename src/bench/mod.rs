@@ -2,4 +2,6 @@
 //! `docs/benchmarks.md` with the command that produced them.
 
 pub mod broad_phase;
+#[cfg(feature = "mpi")]
+pub mod mpi_scene;
 pub mod scene;

@@ -18,7 +18,9 @@ use std::time::Instant;
 pub struct SceneTiming {
     /// The scene file's name without its extension.
     pub name: String,
+    /// Threads per rank, and MPI ranks (1: one process).
     pub threads: usize,
+    pub ranks: usize,
     pub bodies: usize,
     /// Untimed steps taken before `steps`, after which the bodies were stopped (see [`settle`]).
     pub settle_steps: u64,
@@ -62,8 +64,12 @@ impl SceneTiming {
             0 => String::new(),
             n => format!(" settle={n}"),
         };
+        let ranks = match self.ranks {
+            1 => String::new(),
+            n => format!(" ranks={n}"),
+        };
         format!(
-            "polydem {} threads={} bodies={}{settle} window={}..{} seconds={:.3} \
+            "polydem {} threads={}{ranks} bodies={}{settle} window={}..{} seconds={:.3} \
              particle_steps_per_s={:.3e} contacts_per_particle={:.3} wall_contacts={}{rss}",
             self.name,
             self.threads,
@@ -88,7 +94,8 @@ pub struct ContactCounts {
     pub body_wall: usize,
 }
 
-/// Counts the world's current contacts. The one place the benchmark reads the contact lists.
+/// Counts the world's current contacts (in a share of a decomposed world, those its owned bodies
+/// count: see `Bodies::ghost`). The one place the benchmark reads the contact lists.
 pub fn contact_counts(world: &World) -> ContactCounts {
     use crate::contact::ContactRef;
     fn pairs<'a>(contacts: impl Iterator<Item = ContactRef<'a>>) -> usize {
@@ -100,14 +107,19 @@ pub fn contact_counts(world: &World) -> ContactCounts {
             .count()
     }
     let contacts = world.contacts();
+    let counted = |c: &ContactRef| world.bodies().counts(c.key.a as usize);
     ContactCounts {
-        body_body: pairs(contacts.between_bodies()),
-        body_wall: pairs(contacts.iter().filter(|c| c.key.partner.is_wall())),
+        body_body: pairs(contacts.between_bodies().filter(counted)),
+        body_wall: pairs(
+            contacts
+                .iter()
+                .filter(|c| c.key.partner.is_wall() && counted(c)),
+        ),
     }
 }
 
 /// Translational plus rotational kinetic energy of the bodies [J]: near zero once settled.
-fn kinetic_energy(world: &World) -> f64 {
+pub(super) fn kinetic_energy(world: &World) -> f64 {
     let e = world.energy();
     e.kinetic_translational + e.kinetic_rotational
 }
@@ -129,7 +141,7 @@ pub fn peak_rss_bytes() -> Option<u64> {
 
 /// Loads `file` as `polydem run` does, with the threads overridden if asked; refuses scenes that
 /// insert bodies during the run.
-fn load(file: &Path, threads: Option<usize>) -> Result<World, String> {
+pub(super) fn load(file: &Path, threads: Option<usize>) -> Result<World, String> {
     let mut scene = Scene::load(file).map_err(|e| e.to_string())?;
     if let Some(threads) = threads {
         scene.spec.simulation.threads = threads;
@@ -234,6 +246,7 @@ pub fn run(
     Ok(SceneTiming {
         name,
         threads: world.threads(),
+        ranks: 1,
         bodies: world.bodies().len(),
         settle_steps,
         steps,

@@ -214,6 +214,22 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let simulates = matches!(cli.command, Command::Run { .. } | Command::Resume { .. });
     let ranks = polydem::decomposition::launched_ranks();
+    #[cfg(feature = "mpi")]
+    if ranks > 1 {
+        if let Command::Bench {
+            what:
+                Bench::Scene {
+                    scene,
+                    settle_steps,
+                    steps,
+                    window_start,
+                    threads,
+                },
+        } = &cli.command
+        {
+            return bench_scene_on_ranks(scene, *settle_steps, *steps, *window_start, *threads);
+        }
+    }
     if simulates && ranks > 1 {
         // Every process would run the whole scene and write the same files over each other.
         eprintln!(
@@ -564,6 +580,50 @@ fn bench_scene(
         })?;
     println!("{}", timing.line());
     Ok(())
+}
+
+/// `bench scene` under an MPI launcher: the scene decomposed among the ranks; rank 0 prints.
+#[cfg(feature = "mpi")]
+fn bench_scene_on_ranks(
+    scene: &Path,
+    settle_steps: u64,
+    steps: u64,
+    window_start: u64,
+    threads: Option<usize>,
+) -> ExitCode {
+    use mpi::traits::*;
+    let Some(universe) = mpi::initialize() else {
+        eprintln!("error: MPI could not be initialised");
+        return ExitCode::FAILURE;
+    };
+    let world = universe.world();
+    let first = world.rank() == 0;
+    let timing = polydem::bench::mpi_scene::run(
+        scene,
+        settle_steps,
+        steps,
+        window_start,
+        threads,
+        &world,
+        |note| {
+            if first {
+                eprintln!("{note}")
+            }
+        },
+    );
+    match timing {
+        Ok(timing) => {
+            if first {
+                println!("{}", timing.line());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error (rank {}): {e}", world.rank());
+            // The other ranks wait in a collective call: end them all.
+            world.abort(1)
+        }
+    }
 }
 
 fn bench_broad_phase(

@@ -36,7 +36,7 @@ impl InProcessRanks {
             rebalances: 1,
             migrations: 0,
         };
-        world.redraw()?;
+        world.redraw(false)?;
         for share in &mut world.shares {
             share.take_share_of_totals();
         }
@@ -56,7 +56,7 @@ impl InProcessRanks {
             left |= share.step();
         }
         if left {
-            return self.redraw();
+            return self.redraw(true);
         }
         for from in 0..self.shares.len() {
             for to in 0..self.shares.len() {
@@ -70,7 +70,7 @@ impl InProcessRanks {
             .map(Share::predicted_move)
             .fold(0.0, f64::max);
         if self.shares[0].must_redraw(moved) {
-            self.redraw()?;
+            self.redraw(false)?;
         }
         Ok(())
     }
@@ -82,7 +82,7 @@ impl InProcessRanks {
 
     /// Draws the shares again: new cuts if the counts drifted apart, then every share's
     /// deliveries to every other.
-    fn redraw(&mut self) -> Result<(), UnplacedContact> {
+    fn redraw(&mut self, stale: bool) -> Result<(), UnplacedContact> {
         let places: Vec<Vec<DVec3>> = self.shares.iter().map(Share::owned_places).collect();
         let owned: Vec<u64> = (0..self.shares.len())
             .map(|r| {
@@ -101,7 +101,7 @@ impl InProcessRanks {
         let ranks = self.shares.len();
         let mut inbox: Vec<Vec<Delivery>> = (0..ranks).map(|_| Vec::new()).collect();
         for share in &self.shares {
-            let (out, migrations) = share.deliveries(&self.cuts);
+            let (out, migrations) = share.deliveries(&self.cuts, stale);
             self.migrations += migrations;
             for (to, delivery) in out.into_iter().enumerate() {
                 inbox[to].push(delivery);

@@ -61,7 +61,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             rebalances: 1,
             migrations: 0,
         };
-        run.redraw()?;
+        run.redraw(false)?;
         run.share.take_share_of_totals();
         Ok(run)
     }
@@ -75,12 +75,12 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
     pub fn step(&mut self) -> Result<(), MpiRunError> {
         let left = self.share.step();
         if self.any(left) {
-            return self.redraw();
+            return self.redraw(true);
         }
         self.exchange();
         let moved = self.largest(self.share.predicted_move());
         if self.share.must_redraw(moved) {
-            self.redraw()?;
+            self.redraw(false)?;
         }
         Ok(())
     }
@@ -164,7 +164,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
     }
 
     /// Draws the shares again (see [`super::share`]).
-    fn redraw(&mut self) -> Result<(), MpiRunError> {
+    fn redraw(&mut self, stale: bool) -> Result<(), MpiRunError> {
         let ranks = self.communicator.size() as usize;
         let rank = self.communicator.rank() as usize;
         let places = self.share.owned_places();
@@ -185,7 +185,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             );
             self.rebalances += 1;
         }
-        let (out, migrations) = self.share.deliveries(&self.cuts);
+        let (out, migrations) = self.share.deliveries(&self.cuts, stale);
         self.migrations += migrations;
         let mut outgoing = Vec::new();
         let mut send_counts = Vec::with_capacity(ranks);

@@ -8,12 +8,12 @@
 //!   ([`Decomposition`]); a rank owns the bodies in its region and holds as ghosts every body
 //!   within the ghost layer of it: twice the largest bounding radius (the reach of a contact) and
 //!   two skins (how far two bodies may move towards each other before the shares are redrawn,
-//!   with a margin).
+//!   with a margin), and keeps those it held within a skin more.
 //! - **Every step**, each share steps all its bodies; then each ghost takes its owner's state
 //!   (position, orientation, velocities, forces: [`Share::states_for`]): the owner summed every
 //!   contact of the body, the ghost's holder only some.
-//! - **Redrawing** ([`Share::deliveries`], [`Share::receive`]). Before any body would move half a
-//!   skin from where the shares were drawn ([`World::predicted_search_move`], a maximum over the
+//! - **Redrawing** ([`Share::deliveries`], [`Share::receive`]). Before any body would move
+//!   [`REDRAW_AT`] skins from where the shares were drawn ([`World::predicted_largest_move`], a maximum over the
 //!   ranks), or when bodies left the domain, bodies change hands, ghosts come and go, and each
 //!   share makes its candidate list again. A body that changes owner brings its contacts'
 //!   histories from its old owner ([`World::contact_records`]): the new owner held it as a
@@ -26,18 +26,27 @@ use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
 use crate::world::World;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-/// Shares are redrawn when a body would come this far (in skins) from where they were drawn:
-/// under the half skin the ghost layer allows for, so that round-off in the prediction does not
-/// matter.
-pub const REDRAW_AT: f64 = 0.45;
+/// Shares are redrawn when a body would come this far (in skins) from where they were drawn. Two
+/// bodies that touch are within twice the largest bounding radius of each other; an owned body is
+/// then at most this far out of its owner's region, its partner at most this far from where it
+/// was drawn: within the ghost layer of two radii and two skins, with a fifth of a skin to
+/// spare for round-off in the prediction.
+pub const REDRAW_AT: f64 = 0.9;
 
 /// What one share sends another when the shares are redrawn: the bodies the receiver is to hold
-/// (those the sender owned), and the contacts of those the receiver takes over.
+/// (of those the sender owned), and the contacts of those the receiver takes over.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Delivery {
+    /// Bodies the receiver holds already, in the state the sender has: by id.
+    pub held: Vec<u64>,
+    /// Bodies the receiver is to hold anew, in full.
     pub bodies: Vec<BodyRecord>,
+    /// Bodies the receiver is to own, each with the ranks that are to hold it (its owner too),
+    /// to whom it sends the body's state after every step.
+    pub owned: Vec<(u64, Vec<u32>)>,
+    /// The contact entries of the bodies the receiver takes over from the sender.
     pub contacts: Vec<(u64, Vec<EntryRecord>)>,
 }
 
@@ -53,6 +62,8 @@ pub struct Share {
     receive: Vec<Vec<u32>>,
     /// The body count after the last exchange (bodies leaving the domain change it).
     count: usize,
+    /// Where each body was when the shares were last drawn.
+    drawn_at: Vec<DVec3>,
 }
 
 impl Share {
@@ -76,6 +87,7 @@ impl Share {
             send: vec![Vec::new(); cuts.ranks()],
             receive: vec![Vec::new(); cuts.ranks()],
             count,
+            drawn_at: Vec::new(),
         }
     }
 
@@ -105,10 +117,10 @@ impl Share {
         self.world.bodies().len() != self.count
     }
 
-    /// How far a body will be, after the next step's drift, from where the candidate list was
-    /// made (see [`World::predicted_search_move`]).
+    /// How far a body will be, after the next step's drift, from where it was when the shares
+    /// were drawn (see [`World::predicted_largest_move`]).
     pub fn predicted_move(&self) -> f64 {
-        self.world.predicted_search_move()
+        self.world.predicted_largest_move(&self.drawn_at)
     }
 
     /// Whether the shares must be redrawn before the next step, given the largest
@@ -148,18 +160,44 @@ impl Share {
 
     /// What this share sends each rank (itself included) when the shares are redrawn with the
     /// cuts `cuts`: each owned body to every rank that is to hold it, and its contacts to its new
-    /// owner if that is another rank. Returns them with the number of bodies changing owner.
-    pub fn deliveries(&self, cuts: &Decomposition) -> (Vec<Delivery>, u64) {
+    /// owner if that is another rank. A rank holds the bodies within the ghost layer of its
+    /// region, and keeps those it held within a skin more (so that bodies near the layer's edge
+    /// do not come and go at every redraw). Bodies a rank holds already go by id, unless
+    /// `stale` (bodies left the domain since the last exchange, which was then not made: the
+    /// receiver's copies are a step old). Returns the deliveries, by receiver, with the number of
+    /// bodies changing owner.
+    pub fn deliveries(&self, cuts: &Decomposition, stale: bool) -> (Vec<Delivery>, u64) {
         let b = self.world.bodies();
         let mut out: Vec<Delivery> = vec![Delivery::default(); cuts.ranks()];
+        // Which ranks hold each owned body now (valid unless bodies left: then none).
+        let mut holders: Vec<Vec<u32>> = vec![Vec::new(); b.len()];
+        if !stale {
+            for (r, list) in self.send.iter().enumerate() {
+                for &i in list {
+                    holders[i as usize].push(r as u32);
+                }
+            }
+        }
+        let skin = self.world.skin();
         let mut migrations = 0;
         for i in (0..b.len()).filter(|&i| !b.is_ghost(i)) {
             let x = b.position[i];
-            let record = b.record(i);
-            for r in cuts.ranks_near(x, self.layer) {
-                out[r].bodies.push(record);
+            let near = cuts.ranks_near(x, self.layer);
+            let to: Vec<usize> = cuts
+                .ranks_near(x, self.layer + skin)
+                .into_iter()
+                .filter(|r| near.contains(r) || holders[i].contains(&(*r as u32)))
+                .collect();
+            for &r in &to {
+                if r == self.rank || holders[i].contains(&(r as u32)) {
+                    out[r].held.push(b.id[i]);
+                } else {
+                    out[r].bodies.push(b.record(i));
+                }
             }
             let owner = cuts.owner(x);
+            let to = to.into_iter().map(|r| r as u32).collect();
+            out[owner].owned.push((b.id[i], to));
             if owner != self.rank {
                 migrations += 1;
                 let contacts = self.world.contact_records(i);
@@ -183,12 +221,13 @@ impl Share {
             .flat_map(|d| &d.bodies)
             .map(|r| (r.id, r))
             .collect();
+        let held: HashSet<u64> = deliveries.iter().flat_map(|d| &d.held).copied().collect();
         let keep: Vec<bool> = self
             .world
             .bodies()
             .id
             .iter()
-            .map(|id| sent.contains_key(id))
+            .map(|id| held.contains(id) || sent.contains_key(id))
             .collect();
         self.world.keep_share(&keep);
         let index = self.world.index_by_id();
@@ -213,33 +252,39 @@ impl Share {
         for (id, records) in deliveries.iter().flat_map(|d| &d.contacts) {
             self.world.adopt_contacts(index[id], &index, records)?;
         }
-        self.index_exchange(cuts, &owner);
+        let owned = deliveries.iter().flat_map(|d| &d.owned);
+        self.index_exchange(&index, owned, &owner);
+        self.drawn_at.clone_from(&self.world.bodies().position);
         Ok(())
     }
 
-    /// The lists of the per-step exchange: which owned bodies go to which rank, which ghosts come
-    /// from which, both in order of id, so that sender and receiver agree on the order.
-    fn index_exchange(&mut self, cuts: &Decomposition, owner: &[usize]) {
-        let b = self.world.bodies();
+    /// The lists of the per-step exchange: which owned bodies go to which rank (`owned`: each
+    /// body this share owns with the ranks that hold it), which ghosts come from which (`owner`,
+    /// by local index), both in order of id, so that sender and receiver agree on the order.
+    fn index_exchange<'a>(
+        &mut self,
+        index: &HashMap<u64, usize>,
+        owned: impl Iterator<Item = &'a (u64, Vec<u32>)>,
+        owner: &[usize],
+    ) {
         for list in self.send.iter_mut().chain(self.receive.iter_mut()) {
             list.clear();
         }
+        for (id, holders) in owned {
+            for &r in holders.iter().filter(|&&r| r as usize != self.rank) {
+                self.send[r as usize].push(index[id] as u32);
+            }
+        }
         for (i, &owner) in owner.iter().enumerate() {
-            if owner == self.rank {
-                for r in cuts.ranks_near(b.position[i], self.layer) {
-                    if r != self.rank {
-                        self.send[r].push(i as u32);
-                    }
-                }
-            } else {
+            if owner != self.rank {
                 self.receive[owner].push(i as u32);
             }
         }
-        let id = &b.id;
+        let id = &self.world.bodies().id;
         for list in self.send.iter_mut().chain(self.receive.iter_mut()) {
             list.sort_unstable_by_key(|&i| id[i as usize]);
         }
-        self.count = b.len();
+        self.count = self.world.bodies().len();
     }
 
     /// Makes this share's running totals its part of the whole's (see

@@ -147,19 +147,6 @@ impl NeighbourSearch {
         Some(&self.list)
     }
 
-    /// The farthest any body at `position(i)` would be from where it was when the list was made
-    /// (infinite when there is no valid list, or the bodies are not those of the list). The list
-    /// holds while this is at most half the skin.
-    pub fn largest_move(&self, bodies: usize, position: impl Fn(usize) -> DVec3 + Sync) -> f64 {
-        if !self.valid || self.reference_position.len() != bodies {
-            return f64::INFINITY;
-        }
-        (0..bodies)
-            .into_par_iter()
-            .map(|i| (position(i) - self.reference_position[i]).length())
-            .reduce(|| 0.0, f64::max)
-    }
-
     fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall], half_skin: f64) -> bool {
         let limit = half_skin * half_skin;
         let wall_moved = walls.iter().zip(&self.reference_pose).any(|(w, then)| {

@@ -10,6 +10,7 @@ use super::World;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 impl World {
@@ -84,17 +85,20 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
-    /// How far the body that will have moved farthest from where the candidate list was made
-    /// will be after the next step's drift, predicted from the forces of the last evaluation
-    /// (infinite without a valid list). Shares are redrawn, all at once, before it would reach
-    /// half the skin.
-    pub fn predicted_search_move(&self) -> f64 {
+    /// How far the body that will have moved farthest from `from` (a place per body) will be
+    /// after the next step's drift, predicted from the forces of the last evaluation. Shares are
+    /// redrawn, all at once, before it would reach the distance their ghost layer allows.
+    pub fn predicted_largest_move(&self, from: &[DVec3]) -> f64 {
         let (b, h, dt) = (&self.bodies, 0.5 * self.time_step, self.time_step);
+        assert_eq!(from.len(), b.len(), "a place per body");
         let g = self.gravity;
-        self.search.largest_move(b.len(), |i| {
-            let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
-            b.position[i] + v * dt
-        })
+        (0..b.len())
+            .into_par_iter()
+            .map(|i| {
+                let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
+                (b.position[i] + v * dt - from[i]).length()
+            })
+            .reduce(|| 0.0, f64::max)
     }
 
     /// Makes this share's running totals (energy dissipated, inserted and removed, the work of
