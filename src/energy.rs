@@ -28,6 +28,38 @@ pub struct EnergyReport {
 }
 
 impl EnergyReport {
+    /// Every figure as a number, in the order of the fields (for sums over MPI ranks).
+    pub fn to_array(&self) -> [f64; 10] {
+        [
+            self.kinetic_translational,
+            self.kinetic_rotational,
+            self.potential,
+            self.elastic,
+            self.dissipated,
+            self.removed,
+            self.inserted,
+            self.wall_work,
+            self.gravity_work,
+            self.contacts as f64,
+        ]
+    }
+
+    /// The report [`EnergyReport::to_array`] gave (or a sum of such arrays).
+    pub fn from_array(a: [f64; 10]) -> Self {
+        EnergyReport {
+            kinetic_translational: a[0],
+            kinetic_rotational: a[1],
+            potential: a[2],
+            elastic: a[3],
+            dissipated: a[4],
+            removed: a[5],
+            inserted: a[6],
+            wall_work: a[7],
+            gravity_work: a[8],
+            contacts: a[9] as usize,
+        }
+    }
+
     /// Kinetic + potential + elastic + dissipated + carried out − brought in (by inserted bodies,
     /// the work of moving walls and changes of gravity): constant up to integration error.
     pub fn total(&self) -> f64 {
@@ -47,17 +79,12 @@ impl EnergyReport {
 /// own bodies and contacts).
 impl std::iter::Sum for EnergyReport {
     fn sum<I: Iterator<Item = Self>>(reports: I) -> Self {
-        reports.fold(EnergyReport::default(), |t, e| EnergyReport {
-            kinetic_translational: t.kinetic_translational + e.kinetic_translational,
-            kinetic_rotational: t.kinetic_rotational + e.kinetic_rotational,
-            potential: t.potential + e.potential,
-            elastic: t.elastic + e.elastic,
-            dissipated: t.dissipated + e.dissipated,
-            removed: t.removed + e.removed,
-            inserted: t.inserted + e.inserted,
-            wall_work: t.wall_work + e.wall_work,
-            gravity_work: t.gravity_work + e.gravity_work,
-            contacts: t.contacts + e.contacts,
-        })
+        let mut total = [0.0; 10];
+        for r in reports {
+            for (t, x) in total.iter_mut().zip(r.to_array()) {
+                *t += x;
+            }
+        }
+        EnergyReport::from_array(total)
     }
 }

@@ -18,18 +18,7 @@ fn bodies_by_id(w: &World) -> BTreeMap<u64, Vec<u64>> {
     let b = w.bodies();
     (0..b.len())
         .map(|i| {
-            let mut bits = Vec::new();
-            for v in [
-                b.position[i],
-                b.velocity[i],
-                b.angular_momentum[i],
-                b.angular_velocity[i],
-                b.force[i],
-                b.torque[i],
-            ] {
-                bits.extend(v.to_array().map(f64::to_bits));
-            }
-            bits.extend(b.orientation[i].to_array().map(f64::to_bits));
+            let bits = b.motion_state(i).to_array().map(f64::to_bits).to_vec();
             (b.id[i], bits)
         })
         .collect()

@@ -17,18 +17,7 @@ fn owned_bodies(worlds: &[&World]) -> BTreeMap<u64, Vec<u64>> {
     for w in worlds {
         let b = w.bodies();
         for i in (0..b.len()).filter(|&i| !b.is_ghost(i)) {
-            let mut bits = Vec::new();
-            for v in [
-                b.position[i],
-                b.velocity[i],
-                b.angular_momentum[i],
-                b.angular_velocity[i],
-                b.force[i],
-                b.torque[i],
-            ] {
-                bits.extend(v.to_array().map(f64::to_bits));
-            }
-            bits.extend(b.orientation[i].to_array().map(f64::to_bits));
+            let bits = b.motion_state(i).to_array().map(f64::to_bits).to_vec();
             assert!(
                 all.insert(b.id[i], bits).is_none(),
                 "body {} owned twice",

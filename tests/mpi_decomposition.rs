@@ -53,21 +53,7 @@ fn main() {
 
     // Every rank's bodies on every rank, in rank order.
     let flat: Vec<f64> = local.iter().flat_map(|p| p.to_array()).collect();
-    let mut counts = vec![0i32; size as usize];
-    world.all_gather_into(&(flat.len() as i32), &mut counts[..]);
-    let displacements: Vec<i32> = counts
-        .iter()
-        .scan(0, |start, &c| {
-            let at = *start;
-            *start += c;
-            Some(at)
-        })
-        .collect();
-    let mut all = vec![0.0; counts.iter().sum::<i32>() as usize];
-    world.all_gather_varcount_into(
-        &flat[..],
-        &mut PartitionMut::new(&mut all[..], &counts[..], &displacements[..]),
-    );
+    let all = gathered(&world, &flat);
     let everyone: Vec<DVec3> = all.chunks(3).map(DVec3::from_slice).collect();
     let single = Decomposition::new(size as usize, &mut LocalBodies(&everyone));
     let same = distributed == single;
@@ -146,21 +132,7 @@ fn decomposed_run_is_one_world(world: &impl Communicator) -> bool {
         }
         steps += n;
         let mine = owned_bits(ranks.world());
-        let mut counts = vec![0i32; world.size() as usize];
-        world.all_gather_into(&(mine.len() as i32), &mut counts[..]);
-        let starts: Vec<i32> = counts
-            .iter()
-            .scan(0, |at, &c| {
-                let start = *at;
-                *at += c;
-                Some(start)
-            })
-            .collect();
-        let mut all = vec![0u64; counts.iter().sum::<i32>() as usize];
-        world.all_gather_varcount_into(
-            &mine[..],
-            &mut PartitionMut::new(&mut all[..], &counts[..], &starts[..]),
-        );
+        let all = gathered(world, &mine);
         let mut same = true;
         if let Some(single) = single.as_mut() {
             single.run_steps(n);
@@ -200,4 +172,24 @@ fn decomposed_run_is_one_world(world: &impl Communicator) -> bool {
         );
     }
     ok
+}
+
+/// Every rank's `mine`, one after the other in rank order, on every rank.
+fn gathered<T: Equivalence + Default + Clone>(world: &impl Communicator, mine: &[T]) -> Vec<T> {
+    let mut counts = vec![0i32; world.size() as usize];
+    world.all_gather_into(&(mine.len() as i32), &mut counts[..]);
+    let starts: Vec<i32> = counts
+        .iter()
+        .scan(0, |at, &c| {
+            let start = *at;
+            *at += c;
+            Some(start)
+        })
+        .collect();
+    let mut all = vec![T::default(); counts.iter().sum::<i32>() as usize];
+    world.all_gather_varcount_into(
+        mine,
+        &mut PartitionMut::new(&mut all[..], &counts[..], &starts[..]),
+    );
+    all
 }

@@ -2,7 +2,10 @@
 //! decomposed among the ranks ([`MpiRanks`]), stepped and timed over the same window as
 //! [`super::scene::run`], the figures added up over the ranks.
 
-use super::scene::{contact_counts, load, peak_rss_bytes, settle, ContactCounts, SceneTiming};
+use super::scene::{
+    check_window, contact_counts, load, peak_rss_bytes, scene_name, settle, ContactCounts,
+    SceneTiming,
+};
 use crate::decomposition::mpi_ranks::MpiRanks;
 use mpi::traits::*;
 use std::path::Path;
@@ -21,11 +24,7 @@ pub fn run<C: Communicator>(
     communicator: &C,
     mut progress: impl FnMut(&str),
 ) -> Result<SceneTiming, String> {
-    if window_start >= steps {
-        return Err(format!(
-            "the window must not be empty: --window-start {window_start} must be below --steps {steps}"
-        ));
-    }
+    check_window(steps, window_start)?;
     let start = Instant::now();
     let mut world = load(file, threads)?;
     settle(&mut world, settle_steps);
@@ -65,12 +64,8 @@ pub fn run<C: Communicator>(
         ranks.total(ranks.migrations),
         ranks.total(ghosts),
     ));
-    let name = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     Ok(SceneTiming {
-        name,
+        name: scene_name(file),
         threads,
         ranks: communicator.size() as usize,
         bodies: ranks.total(owned(&ranks)) as usize,

@@ -157,6 +157,23 @@ pub(super) fn load(file: &Path, threads: Option<usize>) -> Result<World, String>
     Ok(prepared.world)
 }
 
+/// Refuses an empty timing window.
+pub(super) fn check_window(steps: u64, window_start: u64) -> Result<(), String> {
+    if window_start >= steps {
+        return Err(format!(
+            "the window must not be empty: --window-start {window_start} must be below --steps {steps}"
+        ));
+    }
+    Ok(())
+}
+
+/// The scene file's name without its extension.
+pub(super) fn scene_name(file: &Path) -> String {
+    file.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
 /// Takes `steps` steps, then stops every body (zero velocity and spin), if `steps` > 0: a bed
 /// settled this way is the state handed to the peer codes at rest (`polydem bench initial
 /// --settle-steps`), and polydem continues from the same state. The contact histories are kept.
@@ -188,11 +205,7 @@ pub fn run(
     threads: Option<usize>,
     mut progress: impl FnMut(&str),
 ) -> Result<SceneTiming, String> {
-    if window_start >= steps {
-        return Err(format!(
-            "the window must not be empty: --window-start {window_start} must be below --steps {steps}"
-        ));
-    }
+    check_window(steps, window_start)?;
     let start = Instant::now();
     let mut world = load(file, threads)?;
     let world = &mut world;
@@ -239,12 +252,8 @@ pub fn run(
         kinetic_energy(world),
         in_window.summary()
     ));
-    let name = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     Ok(SceneTiming {
-        name,
+        name: scene_name(file),
         threads: world.threads(),
         ranks: 1,
         bodies: world.bodies().len(),

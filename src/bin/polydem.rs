@@ -214,22 +214,6 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let simulates = matches!(cli.command, Command::Run { .. } | Command::Resume { .. });
     let ranks = polydem::decomposition::launched_ranks();
-    #[cfg(feature = "mpi")]
-    if ranks > 1 {
-        if let Command::Bench {
-            what:
-                Bench::Scene {
-                    scene,
-                    settle_steps,
-                    steps,
-                    window_start,
-                    threads,
-                },
-        } = &cli.command
-        {
-            return bench_scene_on_ranks(scene, *settle_steps, *steps, *window_start, *threads);
-        }
-    }
     if simulates && ranks > 1 {
         // Every process would run the whole scene and write the same files over each other.
         eprintln!(
@@ -574,6 +558,10 @@ fn bench_scene(
     window_start: u64,
     threads: Option<usize>,
 ) -> Result<(), String> {
+    #[cfg(feature = "mpi")]
+    if polydem::decomposition::launched_ranks() > 1 {
+        return bench_scene_on_ranks(scene, settle_steps, steps, window_start, threads);
+    }
     let timing =
         polydem::bench::scene::run(scene, settle_steps, steps, window_start, threads, |note| {
             eprintln!("{note}")
@@ -590,14 +578,16 @@ fn bench_scene_on_ranks(
     steps: u64,
     window_start: u64,
     threads: Option<usize>,
-) -> ExitCode {
+) -> Result<(), String> {
     use mpi::traits::*;
-    let Some(universe) = mpi::initialize() else {
-        eprintln!("error: MPI could not be initialised");
-        return ExitCode::FAILURE;
-    };
+    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
     let world = universe.world();
     let first = world.rank() == 0;
+    let say = |note: &str| {
+        if first {
+            eprintln!("{note}")
+        }
+    };
     let timing = polydem::bench::mpi_scene::run(
         scene,
         settle_steps,
@@ -605,25 +595,18 @@ fn bench_scene_on_ranks(
         window_start,
         threads,
         &world,
-        |note| {
-            if first {
-                eprintln!("{note}")
-            }
-        },
+        say,
     );
     match timing {
-        Ok(timing) => {
-            if first {
-                println!("{}", timing.line());
-            }
-            ExitCode::SUCCESS
-        }
+        Ok(timing) if first => println!("{}", timing.line()),
+        Ok(_) => {}
         Err(e) => {
             eprintln!("error (rank {}): {e}", world.rank());
-            // The other ranks wait in a collective call: end them all.
+            // The other ranks may wait in a collective call: end them all.
             world.abort(1)
         }
     }
+    Ok(())
 }
 
 fn bench_broad_phase(

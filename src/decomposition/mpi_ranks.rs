@@ -87,34 +87,11 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
 
     /// The energy ledger of the whole, on every rank.
     pub fn energy(&self) -> EnergyReport {
-        let e = self.share.world().energy();
-        let mine = [
-            e.kinetic_translational,
-            e.kinetic_rotational,
-            e.potential,
-            e.elastic,
-            e.dissipated,
-            e.removed,
-            e.inserted,
-            e.wall_work,
-            e.gravity_work,
-            e.contacts as f64,
-        ];
+        let mine = self.share.world().energy().to_array();
         let mut all = [0.0; 10];
         self.communicator
             .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
-        EnergyReport {
-            kinetic_translational: all[0],
-            kinetic_rotational: all[1],
-            potential: all[2],
-            elastic: all[3],
-            dissipated: all[4],
-            removed: all[5],
-            inserted: all[6],
-            wall_work: all[7],
-            gravity_work: all[8],
-            contacts: all[9] as usize,
-        }
+        EnergyReport::from_array(all)
     }
 
     /// The sum of `value` over the ranks, on every rank.
