@@ -832,6 +832,49 @@ mod tests {
         assert_eq!(store.wall_entries().len(), 1 + MAX_REGIONS);
     }
 
+    /// A store whose body pairs are seen from the lower index (as checkpoints of older versions
+    /// keep them) is turned to the order of ids: each pair seen from the body of smaller id,
+    /// with its springs and load seen from that side, and sorted by partner id.
+    #[test]
+    fn a_store_oriented_by_index_is_turned_to_the_order_of_ids() {
+        let mut store = ContactStore::default();
+        let list = [
+            candidate(0, Partner::Body(1)),
+            candidate(0, Partner::Body(2)),
+            candidate(1, Partner::Body(2)),
+        ];
+        store.set_candidates(&list, &numbered(3), false, false);
+        let e = touch(&mut store, 0, Partner::Body(2));
+        store.entries.history[e].tangential_spring = DVec3::X;
+        store.load[e].force = DVec3::Y;
+        // The same bodies with ids in the other order: every pair is now seen from the wrong side.
+        let reversed = Bodies {
+            id: vec![2, 1, 0],
+            ..Bodies::default()
+        };
+        assert!(store.in_order(&numbered(3).id));
+        assert!(!store.in_order(&reversed.id));
+        store.permute(&[0, 1, 2], &reversed.id);
+        assert!(store.in_order(&reversed.id));
+        let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();
+        assert_eq!(
+            keys,
+            vec![
+                (1, Partner::Body(0)),
+                (2, Partner::Body(1)),
+                (2, Partner::Body(0)),
+            ]
+        );
+        let turned = store
+            .keys()
+            .iter()
+            .position(|k| k.a == 2 && k.partner == Partner::Body(0));
+        let turned = turned.unwrap();
+        assert_eq!(store.entries.history[turned].tangential_spring, -DVec3::X);
+        assert_eq!(store.load[turned].force, -DVec3::Y);
+        assert_eq!(store.entries.geometry[turned].normal, -DVec3::Z);
+    }
+
     #[test]
     fn renumbering_drops_the_contacts_of_removed_bodies_and_keeps_order() {
         let mut store = ContactStore::default();
