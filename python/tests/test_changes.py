@@ -130,7 +130,9 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint_that_resumes_bit_for_bit(bed, tmp_
     import _thread
     import threading
 
-    bed["simulation"]["duration"] = 0.6
+    # Long enough (100,000 steps, a second or more) that the Ctrl-C 0.3 s in lands during the
+    # run on any machine: 0.6 s of simulated time was done in 0.3 s on a quiet one.
+    bed["simulation"]["duration"] = 2.0
     whole = polydem.Simulation(bed, tmp_path / "whole")
     whole.run()
     stopped = polydem.Simulation(bed, tmp_path / "stopped")

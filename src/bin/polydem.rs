@@ -217,10 +217,11 @@ fn main() -> ExitCode {
     if simulates && ranks > 1 {
         // Every process would run the whole scene and write the same files over each other.
         eprintln!(
-            "error: polydem was started by an MPI launcher as one of {ranks} processes, but it \
-             does not run on several MPI ranks yet (issue #17): each process would run the whole \
-             scene and write the same files. Run it without mpirun (or with -np 1), and give it \
-             the cores of the machine with --threads N."
+            "error: polydem was started by an MPI launcher as one of {ranks} processes, but \
+             `run` and `resume` do not run on several MPI ranks yet (issue #17; `bench scene` \
+             does): each process would run the whole scene and write the same files. Run it \
+             without mpirun (or with -np 1), and give it the cores of the machine with \
+             --threads N."
         );
         return ExitCode::FAILURE;
     }

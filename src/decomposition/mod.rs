@@ -1,14 +1,21 @@
 //! Spatial domain decomposition for runs on several MPI ranks (issue #17; the plan is
 //! `docs/mpi-plan.md`).
 //!
-//! What exists so far is the decomposition itself: recursive coordinate bisection by body count
-//! ([`bisection`]), which every rank computes identically from global counts, and the questions
-//! the distributed step will ask of it: which rank owns a point, and which ranks need a body as a
-//! ghost. Counting goes through [`BodyCounter`]: [`LocalBodies`] counts bodies held in one
-//! process; with the `mpi` feature, `mpi_count::DistributedBodies` adds every rank's count up.
-//! The distributed step (ghost exchange, migration with contact history) is not built yet, and
-//! `polydem run` refuses to start under `mpirun` with more than one rank rather than run the same
-//! scene several times over.
+//! - [`bisection`]: recursive coordinate bisection by body count, which every rank computes
+//!   identically from global counts, and the questions the step asks of it: which rank owns a
+//!   point, and which ranks need a body as a ghost. Counting goes through [`BodyCounter`]:
+//!   [`LocalBodies`] counts bodies held in one process; with the `mpi` feature,
+//!   `mpi_count::DistributedBodies` adds every rank's count up.
+//! - [`share`]: one rank's share of the world (owned bodies and ghosts) and its half of every
+//!   exchange: the ghosts' states after each step, the redraw that hands bodies over with their
+//!   contacts' histories. The design is described there.
+//! - The transports: [`InProcessRanks`] (every share in this process: the reference, and the
+//!   tests) and, with the `mpi` feature, `mpi_ranks::MpiRanks` (one share per MPI rank). Both
+//!   give every body the bits a single world gives it.
+//!
+//! `polydem bench scene` runs on MPI ranks; `polydem run` does not yet (outputs, insertions and
+//! checkpoints across ranks are to come) and refuses to start under `mpirun` with more than one
+//! rank rather than run the same scene several times over.
 
 pub mod bisection;
 pub mod in_process;
