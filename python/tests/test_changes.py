@@ -130,14 +130,15 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint_that_resumes_bit_for_bit(bed, tmp_
     import _thread
     import threading
 
-    # Long enough (100,000 steps, a second or more) that the Ctrl-C 0.3 s in lands during the
-    # run on any machine: 0.6 s of simulated time was done in 0.3 s on a quiet one.
-    bed["simulation"]["duration"] = 2.0
+    # 200,000 steps of 64 spheres: half a second or more on any machine (a quiet one did 30,000
+    # in under 0.3 s), so a Ctrl-C 20 ms in lands early in the run, which looks for it every
+    # 0.1 s.
+    bed["simulation"]["duration"] = 4.0
     whole = polydem.Simulation(bed, tmp_path / "whole")
     whole.run()
     stopped = polydem.Simulation(bed, tmp_path / "stopped")
     # Ctrl-C as the interpreter sees it, while the run steps with the GIL released.
-    threading.Timer(0.3, _thread.interrupt_main).start()
+    threading.Timer(0.02, _thread.interrupt_main).start()
     with pytest.raises(KeyboardInterrupt, match="checkpoint written"):
         stopped.run()
     assert 0 < stopped.steps < whole.steps
