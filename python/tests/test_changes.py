@@ -128,19 +128,27 @@ def test_resume_of_a_folder_without_checkpoints_raises(tmp_path):
 
 def test_ctrl_c_stops_a_run_with_a_checkpoint_that_resumes_bit_for_bit(bed, tmp_path):
     import _thread
+    import signal
     import threading
 
-    # 200,000 steps of 64 spheres: half a second or more on any machine (a quiet one did 30,000
-    # in under 0.3 s), so a Ctrl-C 20 ms in lands early in the run, which looks for it every
-    # 0.1 s.
+    # Python handles Ctrl-C only where SIGINT was not ignored when it started (a job started in
+    # the background by a non-interactive shell, as some CI runners do, ignores it): ask for
+    # Python's own handler for this test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+
+    # 200,000 steps of 64 spheres: long enough on any machine that a Ctrl-C 20 ms in lands early
+    # in the run, which looks for it every 0.1 s.
     bed["simulation"]["duration"] = 4.0
     whole = polydem.Simulation(bed, tmp_path / "whole")
     whole.run()
     stopped = polydem.Simulation(bed, tmp_path / "stopped")
     # Ctrl-C as the interpreter sees it, while the run steps with the GIL released.
     threading.Timer(0.02, _thread.interrupt_main).start()
-    with pytest.raises(KeyboardInterrupt, match="checkpoint written"):
-        stopped.run()
+    try:
+        with pytest.raises(KeyboardInterrupt, match="checkpoint written"):
+            stopped.run()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert 0 < stopped.steps < whole.steps
     resumed = polydem.Simulation.resume(tmp_path / "stopped")
     assert resumed.steps == stopped.steps
