@@ -37,6 +37,26 @@ impl Candidate {
     pub fn order(&self, ids: &[u64]) -> ContactOrder {
         (self.a, self.partner.rank(ids), 0)
     }
+
+    /// The number of store entries the candidate gets: [`MAX_REGIONS`] for a regional pair.
+    pub fn entries(&self) -> usize {
+        match self.kind {
+            PairKind::Regional => MAX_REGIONS,
+            _ => 1,
+        }
+    }
+
+    /// The keys of the candidate's entries, with its kind, in the store's order.
+    fn keys(&self) -> impl DoubleEndedIterator<Item = (ContactKey, PairKind)> + '_ {
+        (0..self.entries() as u8).map(move |region| {
+            let key = ContactKey {
+                a: self.a,
+                partner: self.partner,
+                region,
+            };
+            (key, self.kind)
+        })
+    }
 }
 
 /// One contact as outside code sees it.
@@ -107,13 +127,13 @@ impl Persistent {
             partner: Partner::Body(0),
             region: 0,
         };
-        self.key.resize(len, key);
-        self.kind.resize(len, PairKind::Single);
-        self.touching.resize(len, false);
-        self.geometry.resize(len, ContactPoint::default());
-        self.history.resize(len, History::default());
+        resize_tight(&mut self.key, len, key);
+        resize_tight(&mut self.kind, len, PairKind::Single);
+        resize_tight(&mut self.touching, len, false);
+        resize_tight(&mut self.geometry, len, ContactPoint::default());
+        resize_tight(&mut self.history, len, History::default());
         if spins {
-            self.spin.resize(len, SpinHistory::default());
+            resize_tight(&mut self.spin, len, SpinHistory::default());
         }
     }
 
@@ -145,9 +165,16 @@ pub struct ContactStore {
     incoming: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
-    /// The keys and kinds of the last [`ContactStore::set_candidates`] (working memory).
-    #[serde(skip)]
-    new_keys: Vec<(ContactKey, PairKind)>,
+}
+
+/// `values.resize(len, value)`, but growing the capacity to `len` and an eighth rather than
+/// doubling it: the store is most of a run's memory, and the count of candidates changes a
+/// little at each neighbour search.
+fn resize_tight<T: Clone>(values: &mut Vec<T>, len: usize, value: T) {
+    if len > values.capacity() {
+        values.reserve_exact(len + len / 8 - values.len());
+    }
+    values.resize(len, value);
 }
 
 impl ContactStore {
@@ -174,23 +201,15 @@ impl ContactStore {
         debug_assert!(candidates
             .windows(2)
             .all(|w| w[0].order(ids) < w[1].order(ids)));
-        // The new keys, in order.
+        // The new keys, in order, are made on the fly from the candidates (a list of them would
+        // cost 20 bytes an entry at the store's peak).
         self.regional.clear();
-        self.new_keys.clear();
+        let mut count = 0;
         for c in candidates {
-            let regional = c.kind == PairKind::Regional;
-            if regional {
-                self.regional.push(self.new_keys.len() as u32);
+            if c.kind == PairKind::Regional {
+                self.regional.push(count as u32);
             }
-            let regions = if regional { MAX_REGIONS as u8 } else { 1 };
-            for region in 0..regions {
-                let key = ContactKey {
-                    a: c.a,
-                    partner: c.partner,
-                    region,
-                };
-                self.new_keys.push((key, c.kind));
-            }
+            count += c.entries();
         }
         let e = &mut self.entries;
         if spins {
@@ -210,14 +229,12 @@ impl ContactStore {
         // 1. Keep the entries whose key is still a candidate, in order, moved down.
         let mut lost = 0.0;
         let mut kept = 0;
-        let mut next = 0;
+        let mut new_keys = candidates.iter().flat_map(Candidate::keys).peekable();
         for o in 0..e.key.len() {
             let key = e.key[o];
             let order = key.order(ids);
-            while next < self.new_keys.len() && self.new_keys[next].0.order(ids) < order {
-                next += 1;
-            }
-            if next < self.new_keys.len() && self.new_keys[next].0 == key {
+            while new_keys.next_if(|(k, _)| k.order(ids) < order).is_some() {}
+            if new_keys.peek().is_some_and(|(k, _)| *k == key) {
                 e.move_entry(o, kept);
                 self.load[kept] = self.load[o];
                 self.report[kept] = self.report[o];
@@ -234,16 +251,15 @@ impl ContactStore {
         self.report.truncate(kept);
         self.volume.truncate(kept);
         // 2. Spread them to their new places from the back, new entries between them.
-        let count = self.new_keys.len();
         e.resize(count, spins);
-        self.load.resize(count, Load::default());
-        self.report.resize(count, LawReport::default());
+        resize_tight(&mut self.load, count, Load::default());
+        resize_tight(&mut self.report, count, LawReport::default());
         if volumes {
-            self.volume.resize(count, None);
+            resize_tight(&mut self.volume, count, None);
         }
         let mut o = kept;
-        for k in (0..count).rev() {
-            let (key, kind) = self.new_keys[k];
+        let new_keys = candidates.iter().flat_map(Candidate::keys).rev();
+        for (k, (key, kind)) in (0..count).rev().zip(new_keys) {
             if o > 0 && e.key[o - 1] == key {
                 o -= 1;
                 e.move_entry(o, k);
@@ -372,7 +388,8 @@ impl ContactStore {
     /// stale until the next [`ContactStore::set_candidates`].
     pub fn permute(&mut self, new_index: &[u32], ids: &[u64]) {
         let e = &mut self.entries;
-        let mut order: Vec<(ContactOrder, ContactKey, u32)> = Vec::with_capacity(e.key.len());
+        // The keys are renamed in place, then the entries sorted through an index array (4 bytes
+        // an entry: this runs on a full store, and its working memory adds to the peak).
         for k in 0..e.key.len() {
             let key = e.key[k];
             let a = new_index[key.a as usize];
@@ -407,15 +424,12 @@ impl ContactStore {
                     ..key
                 },
             };
-            order.push((key.order(ids), key, k as u32));
+            e.key[k] = key;
         }
-        order.sort_unstable();
-        let from: Vec<u32> = order.iter().map(|&(_, _, k)| k).collect();
+        let mut from: Vec<u32> = (0..e.key.len() as u32).collect();
+        from.sort_unstable_by_key(|&k| e.key[k as usize].order(ids));
         let done = &mut Vec::new();
-        for (slot, &(_, key, _)) in e.key.iter_mut().zip(&order) {
-            *slot = key;
-        }
-        drop(order);
+        permute_in_place(&mut e.key, &from, done);
         permute_in_place(&mut e.kind, &from, done);
         permute_in_place(&mut e.touching, &from, done);
         permute_in_place(&mut e.geometry, &from, done);
