@@ -17,11 +17,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 mod resume;
+mod shared;
 mod stepwise;
 mod trial;
 mod watchdog;
 
 pub use resume::{resume, ResumeOptions};
+pub use shared::{SharedCheck, SharedSteps};
 pub use stepwise::SteppedRun;
 pub use trial::{bodies_to_come, Trial};
 pub use watchdog::{too_fast, EnergyWatch, WallSides, ALLOWED_DRIFT};
@@ -45,13 +47,18 @@ pub enum RunError {
     },
     /// A checkpoint cannot be resumed with this scene: why.
     Resume(String),
+    /// The shares of a run on several MPI ranks could not go on, or the run asks for what does
+    /// not run on several ranks yet: why.
+    Ranks(String),
 }
 
 impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
         match self {
             RunError::Output(e) => write!(f, "{e}"),
-            RunError::BlowUp(why) | RunError::Resume(why) => f.write_str(why),
+            RunError::BlowUp(why) | RunError::Resume(why) | RunError::Ranks(why) => {
+                f.write_str(why)
+            }
             RunError::Checkpoint(e) => write!(f, "{e}"),
             RunError::Interrupted {
                 time,
@@ -152,6 +159,12 @@ pub struct Control {
 /// A run under way: the prepared world, its outputs, and what its checkpoints need.
 struct Session<'a> {
     prepared: &'a mut Prepared,
+    /// Where the world is stepped when not in `prepared.world` (shares on MPI ranks), and
+    /// whether `prepared.world` is behind it (only its clock is current).
+    shared: Option<&'a mut dyn SharedSteps>,
+    stale: bool,
+    /// What the shares' checks found after the last chunk of steps.
+    checked: Option<SharedCheck>,
     output: RunOutput,
     control: Control,
     /// The polyhedral shapes the scene built (see [`templates`]).
@@ -195,6 +208,29 @@ pub fn run_with(
     Ok(session.output)
 }
 
+/// [`run_with`] of a world stepped as `shared` (shares on MPI ranks, which every rank built
+/// from the same `prepared` scene): this process writes the outputs and checkpoints, from the
+/// whole world assembled at each output. Insertions during the run are not supported yet.
+pub fn run_shared(
+    prepared: &mut Prepared,
+    out_dir: &Path,
+    control: Control,
+    shared: &mut dyn SharedSteps,
+    mut observe: impl FnMut(RunEvent),
+) -> Result<RunOutput, RunError> {
+    if let Some(t) = prepared.next_insertion_time() {
+        return Err(RunError::Ranks(format!(
+            "the scene inserts bodies during the run (the next at t = {t:.6e} s), which does not \
+             run on several MPI ranks yet (issue #17): run it in one process (without mpirun, \
+             or with -np 1)"
+        )));
+    }
+    let mut session = start(prepared, out_dir, control, &mut observe)?;
+    session.shared = Some(shared);
+    session.drive(observe)?;
+    Ok(session.output)
+}
+
 /// A run set up and its first frame written, before its first step: [`run_with`] drives it to
 /// the end at once, a [`SteppedRun`] in pieces.
 fn start<'a>(
@@ -221,6 +257,9 @@ fn start<'a>(
     let sides = WallSides::new(&prepared.world);
     Ok(Session {
         prepared,
+        shared: None,
+        stale: false,
+        checked: None,
         output,
         control,
         templates,
@@ -286,16 +325,10 @@ impl Session<'_> {
             let mut stopped = false;
             while self.prepared.world.steps_done() < until && !stopped {
                 let chunk = (until - self.prepared.world.steps_done()).min(200);
-                self.prepared.world.run_steps(chunk);
-                if let Some(why) = blow_up(&self.prepared.world) {
+                if let Some(why) = self.run_steps(chunk)? {
                     return Err(self.blown_up(why));
                 }
-                let w = &self.prepared.world;
-                let suspect = self
-                    .watch
-                    .check(w)
-                    .or_else(|| too_fast(w, self.prepared.speed_limit));
-                if let Some(why) = suspect {
+                if let Some(why) = self.suspect()? {
                     if self.prepared.watchdog == WatchdogMode::Stop {
                         return Err(self.blown_up(why));
                     }
@@ -315,13 +348,16 @@ impl Session<'_> {
                     .is_some_and(|s| s.load(Ordering::Relaxed));
             }
             let done = self.prepared.world.steps_done();
+            let frame_now = done == next_frame || done == total_steps;
+            let rows_now = done == next_row || done == total_steps;
+            if frame_now || rows_now || stopped || done == next_checkpoint {
+                self.sync()?;
+            }
             if next_insertion.is_some_and(|s| s <= done) {
                 for report in self.prepared.insert_due() {
                     observe(RunEvent::Inserted(&report));
                 }
             }
-            let frame_now = done == next_frame || done == total_steps;
-            let rows_now = done == next_row || done == total_steps;
             // Bodies behind closed walls, once per output (a ray cast per body and wall).
             if frame_now || rows_now {
                 self.check_wall_sides(&mut observe)?;
@@ -373,7 +409,60 @@ impl Session<'_> {
         if self.prepared.world.steps_done() < total_steps {
             return Ok(()); // paused
         }
+        self.sync()?;
         self.checkpoint(&mut observe)?;
+        Ok(())
+    }
+
+    /// Takes `n` steps of the world, here or in its shares. Returns why the run blew up if the
+    /// state is no longer finite.
+    fn run_steps(&mut self, n: u64) -> Result<Option<String>, RunError> {
+        let Some(shared) = self.shared.as_deref_mut() else {
+            self.prepared.world.run_steps(n);
+            return Ok(blow_up(&self.prepared.world));
+        };
+        let (time, steps) = shared.steps(n)?;
+        self.prepared.world.set_clock(time, steps);
+        self.stale = true;
+        let check = shared.check(self.prepared.speed_limit)?;
+        self.checked = Some(check);
+        if !check.not_finite {
+            return Ok(None);
+        }
+        self.sync()?;
+        Ok(Some(blow_up(&self.prepared.world).unwrap_or_else(|| {
+            "the run blew up: a body's state is no longer finite".to_string()
+        })))
+    }
+
+    /// Why the watchdog finds the run unsound after the steps just taken: the energy ledger
+    /// grew, or a body moves too fast.
+    fn suspect(&mut self) -> Result<Option<String>, RunError> {
+        let limit = self.prepared.speed_limit;
+        let Some(check) = self.checked.take() else {
+            let w = &self.prepared.world;
+            return Ok(self.watch.check(w).or_else(|| too_fast(w, limit)));
+        };
+        let w = &self.prepared.world;
+        let why = self
+            .watch
+            .check_ledger(&check.energy, w.time(), w.steps_done());
+        if why.is_some() || !check.too_fast {
+            return Ok(why);
+        }
+        self.sync()?;
+        Ok(too_fast(&self.prepared.world, limit))
+    }
+
+    /// Makes `prepared.world` the whole world now, if it is a view of shares behind them.
+    fn sync(&mut self) -> Result<(), RunError> {
+        let Some(shared) = self.shared.as_deref_mut() else {
+            return Ok(());
+        };
+        if self.stale {
+            shared.gather(&mut self.prepared.world)?;
+            self.stale = false;
+        }
         Ok(())
     }
 

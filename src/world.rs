@@ -26,6 +26,7 @@ mod view;
 
 pub use config::WorldConfig;
 pub use interventions::WallMotionChangeError;
+pub use share::{RunningTotals, SharePart};
 pub use snapshot::{RestoreError, ShapeRecord, WorldState};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances

@@ -7,6 +7,10 @@
 //! - The drum of every contact kind (`common::drum`), stepped by the ranks together
 //!   (`MpiRanks`), must give every body the bits a single world gives it, which rank 0 steps
 //!   beside them; and the ledger, added up over the ranks, the single world's to round-off.
+//! - The whole world assembled on rank 0 from the shares (what `polydem run` on ranks writes its
+//!   outputs and checkpoints from) must be the single world: the same bodies to the bit, the same
+//!   contacts, and, stepped on by itself, the single world's bits still (which holds only if
+//!   every contact's history and last load came along).
 
 mod common;
 
@@ -70,6 +74,7 @@ fn main() {
     let balanced = total.iter().sum::<u64>() == n && total.iter().all(|&c| c == floor || c == ceil);
 
     let decomposed = decomposed_run_is_one_world(&world);
+    let assembled = assembled_world_is_one_world(&world);
 
     // Each check holds only if it holds on every rank.
     let checks = [
@@ -81,6 +86,10 @@ fn main() {
         (
             "a decomposed run gives every body the bits of one world",
             decomposed,
+        ),
+        (
+            "the whole assembled from the shares is one world, and steps on as one",
+            assembled,
         ),
     ];
     let mut failed = 0;
@@ -171,6 +180,64 @@ fn decomposed_run_is_one_world(world: &impl Communicator) -> bool {
             e.dissipated
         );
     }
+    ok
+}
+
+/// The drum stepped by the ranks, assembled on rank 0 (`MpiRanks::gather`) after a stretch of
+/// steps, against a single world stepped as far beside them: the same bodies to the bit, the
+/// same ledger to round-off; then both stepped on by themselves, the same bits again. True on
+/// every rank if so.
+fn assembled_world_is_one_world(world: &impl Communicator) -> bool {
+    let rank = world.rank();
+    let mut ranks = MpiRanks::new(drum(), world).expect("the shares are drawn");
+    let dt = ranks.world().time_step();
+    // 0.08 s: the bodies are in the drum and touch each other and its wall.
+    let steps = (0.08 / dt).round() as u64;
+    for _ in 0..steps {
+        ranks.step().expect("every contact finds its entry");
+    }
+    let mut whole = (rank == 0).then(drum);
+    ranks.gather(whole.as_mut()).expect("the parts assemble");
+    let Some(mut whole) = whole else {
+        return true;
+    };
+    let mut single = drum();
+    single.run_steps(steps);
+    let by_id = |w: &polydem::World| -> std::collections::BTreeMap<u64, Vec<u64>> {
+        owned_bits(w)
+            .chunks(23)
+            .map(|c| (c[0], c[1..].to_vec()))
+            .collect()
+    };
+    let (e, s) = (whole.energy(), single.energy());
+    let scale = s.dissipated.abs() + s.potential.abs();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * scale;
+    let mut ok = by_id(&whole) == by_id(&single)
+        && e.contacts == s.contacts
+        && s.contacts > 0
+        && close(e.kinetic_translational, s.kinetic_translational)
+        && close(e.elastic, s.elastic)
+        && close(e.dissipated, s.dissipated)
+        && close(e.wall_work, s.wall_work);
+    if !ok {
+        eprintln!("rank 0: the assembled world differs from one world after {steps} steps");
+    }
+    // 0.04 s more, each by itself: the contacts' histories decide these bits.
+    let more = (0.04 / dt).round() as u64;
+    whole.run_steps(more);
+    single.run_steps(more);
+    let on = by_id(&whole) == by_id(&single);
+    if !on {
+        eprintln!("rank 0: the assembled world, stepped on, parts from one world");
+    }
+    ok &= on;
+    println!(
+        "assembled drum on {} ranks: {} bodies, {} contacts after {steps} steps, and the same \
+         bits {more} steps on: {ok}",
+        world.size(),
+        whole.bodies().len(),
+        e.contacts
+    );
     ok
 }
 

@@ -227,7 +227,12 @@ fn give_freed_arrays_back() {
 fn main() -> ExitCode {
     give_freed_arrays_back();
     let cli = Cli::parse();
-    let simulates = matches!(cli.command, Command::Run { .. } | Command::Resume { .. });
+    // `run` goes on ranks when built with MPI; `resume` does not yet.
+    let simulates = if cfg!(feature = "mpi") {
+        matches!(cli.command, Command::Resume { .. })
+    } else {
+        matches!(cli.command, Command::Run { .. } | Command::Resume { .. })
+    };
     let ranks = polydem::decomposition::launched_ranks();
     if simulates && ranks > 1 {
         // Every process would run the whole scene and write the same files over each other.
@@ -492,6 +497,10 @@ fn run(
     out: Option<PathBuf>,
     threads: Option<usize>,
 ) -> Result<(), String> {
+    #[cfg(feature = "mpi")]
+    if polydem::decomposition::launched_ranks() > 1 {
+        return run_on_ranks(scene, changes, out, threads);
+    }
     // Everything is validated before the output folder is created, so bad input never leaves a
     // half-written folder behind.
     let loaded = load(scene, changes, threads)?;
@@ -512,6 +521,75 @@ fn run(
     let result = progress::show(|observe| {
         polydem::run::run_with(&mut prepared, &out, control, observe).map(|_| ())
     });
+    let (_, summary) = result.map_err(|e| run_error(e, scene, &out))?;
+    summary.report(&prepared, &start, &out);
+    Ok(())
+}
+
+/// `run` under an MPI launcher: every rank builds the scene and keeps its share; rank 0 runs the
+/// run loop, says what happens and writes every file (`decomposition::mpi_run`).
+#[cfg(feature = "mpi")]
+fn run_on_ranks(
+    scene: &Path,
+    changes: &SceneChanges,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<(), String> {
+    use mpi::traits::*;
+    use polydem::decomposition::mpi_ranks::MpiRanks;
+    use polydem::decomposition::mpi_run::{follow, Leader};
+    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
+    let communicator = universe.world();
+    let first = communicator.rank() == 0;
+    // Every rank reads the same scene and fails the same way: rank 0 says why.
+    let quiet = |e: String| {
+        if !first {
+            std::process::exit(1);
+        }
+        e
+    };
+    let loaded = load(scene, changes, threads).map_err(quiet)?;
+    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone())
+        .with_overrides(&changes.overrides());
+    let mut prepared = loaded.build().map_err(|e| quiet(e.to_string()))?;
+    // Ctrl-C reaches every rank: rank 0 stops the run, the others wait for its word.
+    let stop = stop_on_signal();
+    let abort = |e: String| -> ! {
+        eprintln!("error (rank {}): {e}", communicator.rank());
+        // The other ranks may wait in a collective call: end them all.
+        communicator.abort(1)
+    };
+    if !first {
+        let mut ranks =
+            MpiRanks::new(prepared.world, &communicator).unwrap_or_else(|e| abort(e.to_string()));
+        return follow(&mut ranks, &communicator).map_err(|e| abort(e.to_string()));
+    }
+    // Rank 0 keeps the whole world for its outputs, and builds it again for its share.
+    let share = load(scene, changes, threads)
+        .and_then(|l| l.build().map_err(|e| e.to_string()))
+        .unwrap_or_else(|e| abort(e))
+        .world;
+    let mut ranks = MpiRanks::new(share, &communicator).unwrap_or_else(|e| abort(e.to_string()));
+    let out = out.unwrap_or_else(|| {
+        let stem = scene.file_stem().unwrap_or_default();
+        Path::new("output").join(stem)
+    });
+    describe(scene, &prepared);
+    println!("ranks        {} (MPI), rank 0 writes", communicator.size());
+    println!("output       {}", out.display());
+    let control = Control {
+        scene: Some(record),
+        stop: Some(stop),
+    };
+    let start = prepared.world.energy();
+    let mut leader = Leader::new(&mut ranks, &communicator);
+    let result = progress::show(|observe| {
+        polydem::run::run_shared(&mut prepared, &out, control, &mut leader, observe).map(|_| ())
+    });
+    if let Err(RunError::Ranks(why)) = &result {
+        abort(why.clone());
+    }
+    leader.finish();
     let (_, summary) = result.map_err(|e| run_error(e, scene, &out))?;
     summary.report(&prepared, &start, &out);
     Ok(())

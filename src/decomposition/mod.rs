@@ -23,6 +23,8 @@ pub mod in_process;
 pub mod mpi_count;
 #[cfg(feature = "mpi")]
 pub mod mpi_ranks;
+#[cfg(feature = "mpi")]
+pub mod mpi_run;
 pub mod share;
 
 pub use bisection::{BodyCounter, Decomposition, LocalBodies, Region};

@@ -16,7 +16,7 @@ use super::share::{imbalance, Delivery, Share, REBALANCE_AT};
 use super::{Decomposition, LocalBodies};
 use crate::body::BodyMotionState;
 use crate::energy::EnergyReport;
-use crate::world::World;
+use crate::world::{SharePart, World};
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
@@ -92,6 +92,64 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         self.communicator
             .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
         EnergyReport::from_array(all)
+    }
+
+    /// The run's checks over every rank's share (every rank calls it together): a state no
+    /// longer finite, a body faster than `speed_limit`, and the energy ledger of the whole.
+    pub fn check(&self, speed_limit: f64) -> crate::run::SharedCheck {
+        let w = self.share.world();
+        let not_finite = crate::run::blow_up(w).is_some();
+        let too_fast = crate::run::too_fast(w, speed_limit).is_some();
+        crate::run::SharedCheck {
+            not_finite: self.any(not_finite),
+            too_fast: self.any(too_fast),
+            energy: self.energy(),
+        }
+    }
+
+    /// Makes `whole` (on rank 0; `None` on the others) the whole world, from every rank's part
+    /// (see `World::assemble`; every rank calls it together): the parts go to rank 0 as
+    /// MessagePack bytes.
+    pub fn gather(&self, whole: Option<&mut World>) -> Result<(), MpiRunError> {
+        let rank = self.communicator.rank() as usize;
+        let root = self.communicator.process_at_rank(0);
+        let bytes = rmp_serde::to_vec(&self.share.world().share_part()).expect("a part encodes");
+        let size = bytes.len() as i32;
+        let Some(whole) = whole else {
+            root.gather_into(&size);
+            root.gather_varcount_into(&bytes[..]);
+            return Ok(());
+        };
+        let mut sizes = vec![0i32; self.communicator.size() as usize];
+        root.gather_into_root(&size, &mut sizes[..]);
+        let starts: Vec<i32> = sizes
+            .iter()
+            .scan(0, |at, &n| {
+                let start = *at;
+                *at += n;
+                Some(start)
+            })
+            .collect();
+        let mut all = vec![0u8; sizes.iter().sum::<i32>() as usize];
+        root.gather_varcount_into_root(
+            &bytes[..],
+            &mut PartitionMut::new(&mut all[..], &sizes[..], &starts[..]),
+        );
+        let parts = sizes
+            .iter()
+            .zip(&starts)
+            .enumerate()
+            .map(|(from, (&n, &start))| {
+                let piece = &all[start as usize..(start + n) as usize];
+                rmp_serde::from_slice(piece).map_err(|e| MpiRunError::Garbled {
+                    rank,
+                    from,
+                    why: e.to_string(),
+                })
+            })
+            .collect::<Result<Vec<SharePart>, _>>()?;
+        whole.assemble(self.share.world(), &parts)?;
+        Ok(())
     }
 
     /// The sum of `value` over the ranks, on every rank.

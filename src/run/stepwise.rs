@@ -47,6 +47,9 @@ impl Detached {
     fn attach(self, prepared: &mut Prepared) -> Session<'_> {
         Session {
             prepared,
+            shared: None,
+            stale: false,
+            checked: None,
             output: self.output,
             control: self.control,
             templates: self.templates,

@@ -46,7 +46,12 @@ impl EnergyWatch {
 
     /// `None` while the ledger closes; else why the run must stop.
     pub fn check(&mut self, world: &World) -> Option<String> {
-        let e = world.energy();
+        self.check_ledger(&world.energy(), world.time(), world.steps_done())
+    }
+
+    /// [`EnergyWatch::check`] of the ledger `e` at `time`, after `steps` steps.
+    pub fn check_ledger(&mut self, e: &EnergyReport, time: f64, steps: u64) -> Option<String> {
+        let e = *e;
         self.in_play = self.in_play.max(self.energy_in_play(&e));
         let drift = e.total() - self.start.total();
         // Energy created is the failure; energy lost beyond the ledger would show as negative
@@ -59,8 +64,8 @@ impl EnergyWatch {
                  Likely causes: a time step above the stable one (`force_time_step`; `polydem \
                  check` prints the estimate), or material values out of any physical range. The \
                  frames written before are valid.",
-                world.time(),
-                world.steps_done(),
+                time,
+                steps,
                 self.in_play,
                 e.kinetic_translational + e.kinetic_rotational
             ));

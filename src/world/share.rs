@@ -11,9 +11,159 @@ use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
+/// A share's running totals (see [`World::take_share_of_totals`]): what adds up over the shares
+/// of a decomposed world to the whole's.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunningTotals {
+    pub dissipated: f64,
+    pub energy_inserted: f64,
+    pub energy_removed: f64,
+    pub bodies_removed: u64,
+    pub gravity_work: f64,
+    pub kick_excess: f64,
+    pub wall_impulse: Vec<DVec3>,
+    pub wall_angular_impulse: Vec<DVec3>,
+    pub wall_work: f64,
+    pub meter_mass: Vec<f64>,
+    pub meter_bodies: Vec<i64>,
+}
+
+impl RunningTotals {
+    /// Adds `other`'s totals to these (which must be of a world with the same walls and meters,
+    /// or empty).
+    fn add(&mut self, other: &RunningTotals) {
+        fn add_all<T: Copy + std::ops::AddAssign + Default>(sum: &mut Vec<T>, part: &[T]) {
+            sum.resize(part.len(), T::default());
+            sum.iter_mut().zip(part).for_each(|(s, &p)| *s += p);
+        }
+        self.dissipated += other.dissipated;
+        self.energy_inserted += other.energy_inserted;
+        self.energy_removed += other.energy_removed;
+        self.bodies_removed += other.bodies_removed;
+        self.gravity_work += other.gravity_work;
+        self.kick_excess += other.kick_excess;
+        add_all(&mut self.wall_impulse, &other.wall_impulse);
+        add_all(&mut self.wall_angular_impulse, &other.wall_angular_impulse);
+        self.wall_work += other.wall_work;
+        add_all(&mut self.meter_mass, &other.meter_mass);
+        add_all(&mut self.meter_bodies, &other.meter_bodies);
+    }
+}
+
+/// What one share of a decomposed world gives towards the whole: its owned bodies, their
+/// contacts as `a` (so each contact of the whole once) and its running totals.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct SharePart {
+    pub bodies: Vec<BodyRecord>,
+    pub contacts: Vec<EntryRecord>,
+    pub totals: RunningTotals,
+}
+
 impl World {
+    /// This world's part of the whole, when it is a share of a decomposed world.
+    pub fn share_part(&self) -> SharePart {
+        let b = &self.bodies;
+        let owned = (0..b.len()).filter(|&i| !b.is_ghost(i));
+        SharePart {
+            bodies: owned.clone().map(|i| b.record(i)).collect(),
+            contacts: owned
+                .flat_map(|i| self.contacts.own_records(b, i))
+                .collect(),
+            totals: self.running_totals(),
+        }
+    }
+
+    /// This world's running totals.
+    pub fn running_totals(&self) -> RunningTotals {
+        RunningTotals {
+            dissipated: self.dissipated,
+            energy_inserted: self.energy_inserted,
+            energy_removed: self.energy_removed,
+            bodies_removed: self.bodies_removed,
+            gravity_work: self.gravity_work,
+            kick_excess: self.kick_excess,
+            wall_impulse: self.wall_loads.impulse.clone(),
+            wall_angular_impulse: self.wall_loads.angular_impulse.clone(),
+            wall_work: self.wall_loads.work,
+            meter_mass: self.flow_meters.iter().map(|m| m.mass).collect(),
+            meter_bodies: self.flow_meters.iter().map(|m| m.bodies).collect(),
+        }
+    }
+
+    /// Makes this world, built from the same scene as the shares of a decomposed world, the
+    /// whole of it: `share` (any of them) gives the clock, the walls' and gravity's state, and
+    /// every share's part (`parts`, in rank order) its bodies, contacts and totals. The whole then
+    /// steps on as its shares would, bit for bit: bodies are copied exactly, contacts with their
+    /// histories and last loads, and the totals add up. Bodies come in the order of the parts.
+    ///
+    /// A state that is no longer finite (a blow-up) is assembled without its contacts: a
+    /// neighbour search of it would mean nothing.
+    pub fn assemble(&mut self, share: &World, parts: &[SharePart]) -> Result<(), UnplacedContact> {
+        assert_eq!(
+            self.shapes.len(),
+            share.shapes.len(),
+            "the whole and its shares are built from one scene"
+        );
+        self.time = share.time;
+        self.steps_done = share.steps_done;
+        self.gravity = share.gravity;
+        self.move_walls_to(share.wall_time);
+        self.wall_states.clone_from(&share.wall_states);
+        self.next_id = share.next_id;
+        self.forces_current = share.forces_current;
+        self.bodies = Default::default();
+        for record in parts.iter().flat_map(|p| &p.bodies) {
+            self.bodies.push_record(record, false);
+        }
+        self.contacts = Default::default();
+        self.search.invalidate();
+        let finite = self.bodies.position.iter().all(|x| x.is_finite());
+        if finite {
+            self.update_candidates();
+            let index = self.index_by_id();
+            let records: Vec<EntryRecord> = parts
+                .iter()
+                .flat_map(|p| p.contacts.iter().copied())
+                .collect();
+            self.contacts.adopt_all(&index, &records)?;
+        }
+        let mut totals = RunningTotals::default();
+        for part in parts {
+            totals.add(&part.totals);
+        }
+        self.dissipated = totals.dissipated;
+        self.energy_inserted = totals.energy_inserted;
+        self.energy_removed = totals.energy_removed;
+        self.bodies_removed = totals.bodies_removed;
+        self.gravity_work = totals.gravity_work;
+        self.kick_excess = totals.kick_excess;
+        self.wall_loads.impulse = totals.wall_impulse;
+        self.wall_loads.angular_impulse = totals.wall_angular_impulse;
+        self.wall_loads.work = totals.wall_work;
+        for (m, (&mass, &bodies)) in self
+            .flow_meters
+            .iter_mut()
+            .zip(totals.meter_mass.iter().zip(&totals.meter_bodies))
+        {
+            m.mass = mass;
+            m.bodies = bodies;
+        }
+        if finite {
+            self.book_wall_loads(0.0);
+        }
+        Ok(())
+    }
+
+    /// Sets the clock alone: for the view of a decomposed world that its run keeps between two
+    /// assemblies (`run::SharedSteps`), whose bodies are those of the last.
+    pub(crate) fn set_clock(&mut self, time: f64, steps_done: u64) {
+        self.time = time;
+        self.steps_done = steps_done;
+    }
+
     /// Each body's index by global id.
     pub fn index_by_id(&self) -> HashMap<u64, usize> {
         (0..self.bodies.len())

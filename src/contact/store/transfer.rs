@@ -48,9 +48,17 @@ pub struct UnplacedContact {
 impl ContactStore {
     /// Every entry of body `i`, as `a` or as partner, in store order.
     pub fn records_of(&self, bodies: &Bodies, i: usize) -> Vec<EntryRecord> {
-        let own = self.own(i);
         let incoming = self.incoming(i).iter().map(|&e| e as usize);
-        own.chain(incoming)
+        self.records(bodies, self.own(i).chain(incoming))
+    }
+
+    /// The entries of body `i` as `a` (each entry of a store is one body's as `a`).
+    pub fn own_records(&self, bodies: &Bodies, i: usize) -> Vec<EntryRecord> {
+        self.records(bodies, self.own(i))
+    }
+
+    fn records(&self, bodies: &Bodies, entries: impl Iterator<Item = usize>) -> Vec<EntryRecord> {
+        entries
             .map(|e| {
                 let key = self.entries.key[e];
                 EntryRecord {
@@ -88,54 +96,81 @@ impl ContactStore {
             .own(i)
             .chain(self.incoming(i).iter().map(|&e| e as usize))
             .collect();
-        for &e in &entries {
-            self.entries.touching[e] = false;
-            self.entries.geometry[e] = ContactPoint::default();
-            self.entries.history[e] = History::default();
-            if let Some(spin) = self.entries.spin.get_mut(e) {
-                *spin = SpinHistory::default();
-            }
-            if let Some(volume) = self.volume.get_mut(e) {
-                *volume = None;
-            }
-            self.load[e] = Load::default();
-            self.report[e] = LawReport::default();
+        for e in entries {
+            self.clear_entry(e);
         }
-        for r in records {
-            let local = |id: u64| index.get(&id).map(|&j| j as u32);
-            let partner = match r.partner {
-                PartnerId::Body(id) => local(id).map(Partner::Body),
-                PartnerId::Plane(p) => Some(Partner::Plane(p)),
-                PartnerId::Mesh(w) => Some(Partner::Mesh(w)),
-            };
-            let found = local(r.a).zip(partner).and_then(|(a, partner)| {
-                self.own(a as usize).find(|&e| {
-                    let key = self.entries.key[e];
-                    key.partner == partner && key.region == r.region
-                })
-            });
-            let Some(e) = found else {
-                if r.touching {
-                    return Err(UnplacedContact {
-                        a: r.a,
-                        partner: r.partner,
-                        region: r.region,
-                    });
-                }
-                continue;
-            };
-            self.entries.touching[e] = r.touching;
-            self.entries.geometry[e] = r.geometry;
-            self.entries.history[e] = r.history;
-            if let (Some(spin), Some(r)) = (self.entries.spin.get_mut(e), r.spin) {
-                *spin = r;
-            }
-            if let Some(volume) = self.volume.get_mut(e) {
-                *volume = r.volume;
-            }
-            self.load[e] = r.load;
-            self.report[e] = r.report;
+        records.iter().try_for_each(|r| self.place(index, r))
+    }
+
+    /// Makes every entry what `records` say (each entry of the whole store once, as gathered from
+    /// every share of a decomposed world; see [`ContactStore::adopt`]): every entry is cleared,
+    /// then each record put into the entry of its key.
+    pub fn adopt_all(
+        &mut self,
+        index: &HashMap<u64, usize>,
+        records: &[EntryRecord],
+    ) -> Result<(), UnplacedContact> {
+        for e in 0..self.entries.key.len() {
+            self.clear_entry(e);
         }
+        records.iter().try_for_each(|r| self.place(index, r))
+    }
+
+    /// Entry `e` touching nothing, with no history and no load.
+    fn clear_entry(&mut self, e: usize) {
+        self.entries.touching[e] = false;
+        self.entries.geometry[e] = ContactPoint::default();
+        self.entries.history[e] = History::default();
+        if let Some(spin) = self.entries.spin.get_mut(e) {
+            *spin = SpinHistory::default();
+        }
+        if let Some(volume) = self.volume.get_mut(e) {
+            *volume = None;
+        }
+        self.load[e] = Load::default();
+        self.report[e] = LawReport::default();
+    }
+
+    /// Puts record `r` into the entry of its key (`index`: local index by global id); a record
+    /// with no such entry must not touch.
+    fn place(
+        &mut self,
+        index: &HashMap<u64, usize>,
+        r: &EntryRecord,
+    ) -> Result<(), UnplacedContact> {
+        let local = |id: u64| index.get(&id).map(|&j| j as u32);
+        let partner = match r.partner {
+            PartnerId::Body(id) => local(id).map(Partner::Body),
+            PartnerId::Plane(p) => Some(Partner::Plane(p)),
+            PartnerId::Mesh(w) => Some(Partner::Mesh(w)),
+        };
+        let found = local(r.a).zip(partner).and_then(|(a, partner)| {
+            self.own(a as usize).find(|&e| {
+                let key = self.entries.key[e];
+                key.partner == partner && key.region == r.region
+            })
+        });
+        let Some(e) = found else {
+            if r.touching {
+                return Err(UnplacedContact {
+                    a: r.a,
+                    partner: r.partner,
+                    region: r.region,
+                });
+            }
+            return Ok(());
+        };
+        self.entries.touching[e] = r.touching;
+        self.entries.geometry[e] = r.geometry;
+        self.entries.history[e] = r.history;
+        if let (Some(spin), Some(r)) = (self.entries.spin.get_mut(e), r.spin) {
+            *spin = r;
+        }
+        if let Some(volume) = self.volume.get_mut(e) {
+            *volume = r.volume;
+        }
+        self.load[e] = r.load;
+        self.report[e] = r.report;
         Ok(())
     }
 }
