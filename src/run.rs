@@ -47,8 +47,7 @@ pub enum RunError {
     },
     /// A checkpoint cannot be resumed with this scene: why.
     Resume(String),
-    /// The shares of a run on several MPI ranks could not go on, or the run asks for what does
-    /// not run on several ranks yet: why.
+    /// The shares of a run on several MPI ranks could not go on: why.
     Ranks(String),
 }
 
@@ -210,7 +209,8 @@ pub fn run_with(
 
 /// [`run_with`] of a world stepped as `shared` (shares on MPI ranks, which every rank built
 /// from the same `prepared` scene): this process writes the outputs and checkpoints, from the
-/// whole world assembled at each output. Insertions during the run are not supported yet.
+/// whole world assembled at each output; bodies inserted during the run are inserted into the
+/// whole, from which the shares start again.
 pub fn run_shared(
     prepared: &mut Prepared,
     out_dir: &Path,
@@ -218,13 +218,6 @@ pub fn run_shared(
     shared: &mut dyn SharedSteps,
     mut observe: impl FnMut(RunEvent),
 ) -> Result<RunOutput, RunError> {
-    if let Some(t) = prepared.next_insertion_time() {
-        return Err(RunError::Ranks(format!(
-            "the scene inserts bodies during the run (the next at t = {t:.6e} s), which does not \
-             run on several MPI ranks yet (issue #17): run it in one process (without mpirun, \
-             or with -np 1)"
-        )));
-    }
     let mut session = start(prepared, out_dir, control, &mut observe)?;
     session.shared = Some(shared);
     session.drive(observe)?;
@@ -350,12 +343,16 @@ impl Session<'_> {
             let done = self.prepared.world.steps_done();
             let frame_now = done == next_frame || done == total_steps;
             let rows_now = done == next_row || done == total_steps;
-            if frame_now || rows_now || stopped || done == next_checkpoint {
+            let insert_now = next_insertion.is_some_and(|s| s <= done);
+            if frame_now || rows_now || stopped || insert_now || done == next_checkpoint {
                 self.sync()?;
             }
-            if next_insertion.is_some_and(|s| s <= done) {
+            if insert_now {
                 for report in self.prepared.insert_due() {
                     observe(RunEvent::Inserted(&report));
+                }
+                if let Some(shared) = self.shared.as_deref_mut() {
+                    shared.scatter(&self.prepared.world, &self.templates)?;
                 }
             }
             // Bodies behind closed walls, once per output (a ray cast per body and wall).

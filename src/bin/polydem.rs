@@ -227,21 +227,19 @@ fn give_freed_arrays_back() {
 fn main() -> ExitCode {
     give_freed_arrays_back();
     let cli = Cli::parse();
-    // `run` goes on ranks when built with MPI; `resume` does not yet.
-    let simulates = if cfg!(feature = "mpi") {
-        matches!(cli.command, Command::Resume { .. })
-    } else {
-        matches!(cli.command, Command::Run { .. } | Command::Resume { .. })
-    };
+    // Built with MPI, `run` and `resume` go on ranks.
+    let simulates = !cfg!(feature = "mpi")
+        && matches!(cli.command, Command::Run { .. } | Command::Resume { .. });
     let ranks = polydem::decomposition::launched_ranks();
     if simulates && ranks > 1 {
         // Every process would run the whole scene and write the same files over each other.
         eprintln!(
             "error: polydem was started by an MPI launcher as one of {ranks} processes, but \
-             `run` and `resume` do not run on several MPI ranks yet (issue #17; `bench scene` \
-             does): each process would run the whole scene and write the same files. Run it \
-             without mpirun (or with -np 1), and give it the cores of the machine with \
-             --threads N."
+             this build of it has no MPI, so it cannot run on several MPI ranks: each process \
+             would run the whole scene and write the same files. Build it with \
+             `cargo build --release --features mpi` (needs Open MPI: Debian libopenmpi-dev \
+             libclang-dev), or run it without mpirun (or with -np 1) and give it the cores of \
+             the machine with --threads N."
         );
         return ExitCode::FAILURE;
     }
@@ -541,17 +539,18 @@ fn run_on_ranks(
     let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
     let communicator = universe.world();
     let first = communicator.rank() == 0;
-    // Every rank reads the same scene and fails the same way: rank 0 says why.
-    let quiet = |e: String| {
-        if !first {
-            std::process::exit(1);
-        }
-        e
+    // Every rank reads the same scene and fails the same way: rank 0 says why (the others end
+    // quietly, so that the launcher does not end rank 0 before it has).
+    let loaded = load(scene, changes, threads).and_then(|loaded| {
+        let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone())
+            .with_overrides(&changes.overrides());
+        Ok((record, loaded.build().map_err(|e| e.to_string())?))
+    });
+    let (record, mut prepared) = match loaded {
+        Ok(loaded) => loaded,
+        Err(e) if first => return Err(e),
+        Err(_) => return Ok(()),
     };
-    let loaded = load(scene, changes, threads).map_err(quiet)?;
-    let record = SceneRecord::new(loaded.file.clone(), loaded.source.clone())
-        .with_overrides(&changes.overrides());
-    let mut prepared = loaded.build().map_err(|e| quiet(e.to_string()))?;
     // Ctrl-C reaches every rank: rank 0 stops the run, the others wait for its word.
     let stop = stop_on_signal();
     let abort = |e: String| -> ! {
@@ -560,9 +559,10 @@ fn run_on_ranks(
         communicator.abort(1)
     };
     if !first {
+        let templates = polydem::run::templates(&prepared);
         let mut ranks =
             MpiRanks::new(prepared.world, &communicator).unwrap_or_else(|e| abort(e.to_string()));
-        return follow(&mut ranks, &communicator).map_err(|e| abort(e.to_string()));
+        return follow(&mut ranks, &communicator, &templates).map_err(|e| abort(e.to_string()));
     }
     // Rank 0 keeps the whole world for its outputs, and builds it again for its share.
     let share = load(scene, changes, threads)
@@ -596,6 +596,10 @@ fn run_on_ranks(
 }
 
 fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
+    #[cfg(feature = "mpi")]
+    if polydem::decomposition::launched_ranks() > 1 {
+        return resume_on_ranks(dir, options);
+    }
     let control = Control {
         scene: None,
         stop: Some(stop_on_signal()),
@@ -605,6 +609,93 @@ fn resume(dir: &Path, options: ResumeOptions) -> Result<(), String> {
     });
     let (prepared, summary) = result.map_err(|e| run_error(e, dir, dir))?;
     // The ledger at the run's start: the first row of its energy.csv.
+    let start =
+        progress::first_ledger(&dir.join("energy.csv")).unwrap_or_else(|| prepared.world.energy());
+    summary.report(&prepared, &start, dir);
+    Ok(())
+}
+
+/// `resume` under an MPI launcher: rank 0 reads the checkpoint and sends the scene the run goes
+/// on with to the other ranks, which build it; the shares start from the checkpoint's whole world
+/// (`SteppedRun::advance_shared`), and rank 0 runs the loop and writes as in [`run_on_ranks`].
+#[cfg(feature = "mpi")]
+fn resume_on_ranks(dir: &Path, options: ResumeOptions) -> Result<(), String> {
+    use mpi::traits::*;
+    use polydem::checkpoint::SceneRecord;
+    use polydem::decomposition::mpi_ranks::MpiRanks;
+    use polydem::decomposition::mpi_run::{follow, Leader};
+    use polydem::run::SteppedRun;
+    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
+    let communicator = universe.world();
+    let root = communicator.process_at_rank(0);
+    let abort = |e: String| -> ! {
+        eprintln!("error (rank {}): {e}", communicator.rank());
+        communicator.abort(1)
+    };
+    // The scene the run goes on with, as MessagePack bytes from rank 0 (none: it could not
+    // resume, and says why).
+    let share_scene = |record: Option<&SceneRecord>| -> Option<SceneRecord> {
+        let mut bytes = record.map_or_else(Vec::new, |r| {
+            rmp_serde::to_vec(r).expect("a scene record encodes")
+        });
+        let mut size = bytes.len() as u64;
+        root.broadcast_into(&mut size);
+        if size == 0 {
+            return None;
+        }
+        bytes.resize(size as usize, 0);
+        root.broadcast_into(&mut bytes[..]);
+        Some(rmp_serde::from_slice(&bytes).unwrap_or_else(|e| abort(format!("scene record: {e}"))))
+    };
+    let build = |record: &SceneRecord| -> polydem::scene::Prepared {
+        let mut scene = polydem::scene::Scene::parse(&record.file, record.text.clone())
+            .unwrap_or_else(|e| abort(e.to_string()));
+        if let Some(threads) = options.threads {
+            scene.spec.simulation.threads = threads;
+        }
+        scene.build().unwrap_or_else(|e| abort(e.to_string()))
+    };
+    let stop = stop_on_signal();
+    if communicator.rank() != 0 {
+        let Some(record) = share_scene(None) else {
+            return Ok(()); // rank 0 says why the run cannot resume
+        };
+        let prepared = build(&record);
+        let templates = polydem::run::templates(&prepared);
+        let mut ranks =
+            MpiRanks::new(prepared.world, &communicator).unwrap_or_else(|e| abort(e.to_string()));
+        return follow(&mut ranks, &communicator, &templates).map_err(|e| abort(e.to_string()));
+    }
+    let control = Control {
+        scene: None,
+        stop: Some(stop),
+    };
+    let result = progress::show(|observe| {
+        let run = SteppedRun::resume(dir, &options, control, &mut *observe);
+        let mut run = match run {
+            Ok(run) => run,
+            Err(e) => {
+                share_scene(None);
+                return Err(e);
+            }
+        };
+        let record = run
+            .scene_record()
+            .cloned()
+            .expect("a resumed run writes checkpoints");
+        share_scene(Some(&record));
+        let share = build(&record).world;
+        let mut ranks =
+            MpiRanks::new(share, &communicator).unwrap_or_else(|e| abort(e.to_string()));
+        let mut leader = Leader::new(&mut ranks, &communicator);
+        let driven = run.advance_shared(u64::MAX, &mut leader, &mut *observe);
+        if let Err(RunError::Ranks(why)) = &driven {
+            abort(why.clone());
+        }
+        leader.finish();
+        driven.map(|_| run.into_parts().0)
+    });
+    let (prepared, summary) = result.map_err(|e| run_error(e, dir, dir))?;
     let start =
         progress::first_ledger(&dir.join("energy.csv")).unwrap_or_else(|| prepared.world.energy());
     summary.report(&prepared, &start, dir);

@@ -13,9 +13,10 @@
 //!   tests) and, with the `mpi` feature, `mpi_ranks::MpiRanks` (one share per MPI rank). Both
 //!   give every body the bits a single world gives it.
 //!
-//! `polydem bench scene` runs on MPI ranks; `polydem run` does not yet (outputs, insertions and
-//! checkpoints across ranks are to come) and refuses to start under `mpirun` with more than one
-//! rank rather than run the same scene several times over.
+//! - [`mpi_run`] (feature `mpi`): `polydem run` and `resume` on ranks, rank 0 leading the run
+//!   loop (`run::run_shared`) and writing outputs and checkpoints from the whole world assembled
+//!   from the shares (`World::assemble`); insertions are made in the whole, from which the
+//!   shares start again (`MpiRanks::restart`).
 
 pub mod bisection;
 pub mod in_process;

@@ -16,7 +16,8 @@ use super::share::{imbalance, Delivery, Share, REBALANCE_AT};
 use super::{Decomposition, LocalBodies};
 use crate::body::BodyMotionState;
 use crate::energy::EnergyReport;
-use crate::world::{SharePart, World};
+use crate::shape::Shape;
+use crate::world::{SharePart, World, WorldState};
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
@@ -26,6 +27,8 @@ use mpi::traits::*;
 pub enum MpiRunError {
     #[error(transparent)]
     Unplaced(#[from] crate::contact::UnplacedContact),
+    #[error("the whole world sent to every rank does not fit this rank's scene: {0}")]
+    Restore(String),
     #[error("rank {rank} could not read what rank {from} sent: {why}")]
     Garbled {
         rank: usize,
@@ -64,6 +67,21 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         run.redraw(false)?;
         run.share.take_share_of_totals();
         Ok(run)
+    }
+
+    /// Starts the shares again from the whole world `state`, which every rank receives alike
+    /// (every rank calls it together): after bodies were inserted into the whole, or to resume
+    /// a run. `templates` name its polyhedral shapes (`World::restore`).
+    pub fn restart(&mut self, state: WorldState, templates: &[Shape]) -> Result<(), MpiRunError> {
+        let ranks = self.communicator.size() as usize;
+        self.cuts = Decomposition::new(ranks, &mut LocalBodies(&state.bodies.position));
+        self.rebalances += 1;
+        self.share
+            .restart(state, templates, &self.cuts)
+            .map_err(|e| MpiRunError::Restore(e.to_string()))?;
+        self.redraw(false)?;
+        self.share.take_share_of_totals();
+        Ok(())
     }
 
     /// This rank's share.

@@ -70,25 +70,51 @@ impl Share {
     /// Rank `rank`'s share of `world`, a whole copy of the world every rank starts from (built
     /// the same way on every rank, forces found), with the cuts `cuts`: it owns the bodies in its
     /// region. The shares must then be drawn ([`Share::deliveries`], [`Share::receive`]).
-    pub fn new(mut world: World, rank: usize, cuts: &Decomposition) -> Self {
+    pub fn new(world: World, rank: usize, cuts: &Decomposition) -> Self {
+        let mut share = Share {
+            world,
+            rank,
+            layer: 0.0,
+            send: Vec::new(),
+            receive: Vec::new(),
+            count: 0,
+            drawn_at: Vec::new(),
+        };
+        share.start_from_whole(cuts);
+        share
+    }
+
+    /// Makes this share's world the whole `state` (a snapshot of the whole world, which every
+    /// rank receives alike: after bodies were inserted into it), to be drawn again as after
+    /// [`Share::new`]. `templates` name its polyhedral shapes (`World::restore`).
+    pub fn restart(
+        &mut self,
+        state: crate::world::WorldState,
+        templates: &[crate::shape::Shape],
+        cuts: &Decomposition,
+    ) -> Result<(), crate::world::RestoreError> {
+        self.world.restore(state, templates)?;
+        self.start_from_whole(cuts);
+        Ok(())
+    }
+
+    /// The share's world holds every body: finds the forces, marks the bodies outside the
+    /// share's region as ghosts, and forgets the last drawing.
+    fn start_from_whole(&mut self, cuts: &Decomposition) {
+        let world = &mut self.world;
         world.update_contacts();
         // The share's numbering is its own business; bodies keep the order they came in.
         world.set_sort_interval(0);
         let b = world.bodies();
         let largest = b.bounding_radius.iter().fold(0.0, |m: f64, &r| m.max(r));
-        let layer = 2.0 * largest + 2.0 * world.skin();
+        self.layer = 2.0 * largest + 2.0 * world.skin();
+        let rank = self.rank;
         let ghost: Vec<bool> = b.position.iter().map(|&x| cuts.owner(x) != rank).collect();
         world.set_ghosts(&ghost);
-        let count = world.bodies().len();
-        Share {
-            world,
-            rank,
-            layer,
-            send: vec![Vec::new(); cuts.ranks()],
-            receive: vec![Vec::new(); cuts.ranks()],
-            count,
-            drawn_at: Vec::new(),
-        }
+        self.count = world.bodies().len();
+        self.send = vec![Vec::new(); cuts.ranks()];
+        self.receive = vec![Vec::new(); cuts.ranks()];
+        self.drawn_at.clear();
     }
 
     pub fn world(&self) -> &World {

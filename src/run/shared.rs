@@ -5,6 +5,7 @@
 
 use super::RunError;
 use crate::energy::EnergyReport;
+use crate::shape::Shape;
 use crate::World;
 
 /// What the per-chunk checks of a run find over the whole world.
@@ -27,4 +28,7 @@ pub trait SharedSteps {
     /// Makes `whole` (built from the same scene) the whole world as it is now (see
     /// `World::assemble`).
     fn gather(&mut self, whole: &mut World) -> Result<(), RunError>;
+    /// Starts the shares again from `whole` (after bodies were inserted into it, or to resume a
+    /// run), its polyhedral shapes named by their place in `templates`.
+    fn scatter(&mut self, whole: &World, templates: &[Shape]) -> Result<(), RunError>;
 }

@@ -3,8 +3,9 @@
 //! the Python package drives runs this way). Paused and driven on, a run writes what it would
 //! have written in one go: frames, rows and checkpoints fall on their own steps.
 
-use super::{Control, EnergyWatch, RunError, RunEvent, Session, WallSides};
+use super::{Control, EnergyWatch, RunError, RunEvent, Session, SharedSteps, WallSides};
 use crate::body::BodyInit;
+use crate::checkpoint::SceneRecord;
 use crate::io::output::RunOutput;
 use crate::scene::Prepared;
 use crate::shape::Shape;
@@ -143,6 +144,42 @@ impl SteppedRun {
     pub fn into_parts(self) -> (Prepared, RunOutput) {
         let rest = self.rest.expect("a run is detached between pieces");
         (self.prepared, rest.output)
+    }
+
+    /// The scene the run goes on with, as its checkpoints store it (`None`: no checkpoints).
+    pub fn scene_record(&self) -> Option<&SceneRecord> {
+        self.rest.as_ref()?.control.scene.as_ref()
+    }
+
+    /// The polyhedral shapes of the run, in the order its checkpoints name them
+    /// ([`super::templates`]).
+    pub fn templates(&self) -> &[Shape] {
+        &self
+            .rest
+            .as_ref()
+            .expect("a run is detached between pieces")
+            .templates
+    }
+
+    /// [`SteppedRun::advance_to`] with the world stepped as `shared` (shares on MPI ranks), which
+    /// starts from this run's world as it is now (`SharedSteps::scatter`); this run's world is
+    /// the whole again when the piece ends.
+    pub fn advance_shared(
+        &mut self,
+        step: u64,
+        shared: &mut dyn SharedSteps,
+        observe: impl FnMut(RunEvent),
+    ) -> Result<(), RunError> {
+        shared.scatter(&self.prepared.world, self.templates())?;
+        let rest = self.rest.take().expect("a run is detached between pieces");
+        let mut session = rest.attach(&mut self.prepared);
+        session.shared = Some(shared);
+        let result = session
+            .drive_until(step, observe)
+            .and_then(|_| session.sync());
+        session.shared = None;
+        self.rest = Some(Detached::of(session));
+        result
     }
 
     fn with_session<T>(&mut self, f: impl FnOnce(&mut Session<'_>) -> T) -> T {
