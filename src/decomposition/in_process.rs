@@ -69,8 +69,12 @@ impl InProcessRanks {
             .iter()
             .map(Share::predicted_move)
             .fold(0.0, f64::max);
+        // As on MPI ranks: every share remakes its neighbour list when one would.
+        let expires = self.shares.iter().any(Share::search_expires);
         if self.shares[0].must_redraw(moved) {
             self.redraw(false)?;
+        } else if expires {
+            self.shares.iter_mut().for_each(Share::expire_search);
         }
         Ok(())
     }

@@ -5,7 +5,8 @@
 //!
 //! Per step: one `MPI_Allreduce` (did bodies leave the domain?), the ghosts' states (an
 //! `MPI_Alltoallv` of 22 numbers per ghost: each rank knows how many it receives from whom), and
-//! one `MPI_Allreduce` (the largest predicted move). When the shares are redrawn: the owned counts
+//! one `MPI_Allreduce` (the largest predicted move, and whether some share's neighbour search
+//! remakes its list next step: then all do, at the same step). When the shares are redrawn: the owned counts
 //! (one reduction; the cuts are made again, with a reduction per bisection probe, only when they
 //! drifted apart), and the deliveries as MessagePack bytes (`MPI_Alltoall` of the sizes, then
 //! `MPI_Alltoallv`). Every rank sends every other rank something, possibly nothing: fine for the
@@ -96,9 +97,22 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             return self.redraw(true);
         }
         self.exchange();
-        let moved = self.largest(self.share.predicted_move());
+        // One reduction for two questions: how far a body will have moved from where the shares
+        // were drawn, and whether some share's neighbour search will remake its list next step.
+        // Then every share remakes its list at that step: a rank that remade its list alone
+        // would hold the others up at the next exchange.
+        let mine = [
+            self.share.predicted_move(),
+            f64::from(u8::from(self.share.search_expires())),
+        ];
+        let mut all = [0.0; 2];
+        self.communicator
+            .all_reduce_into(&mine[..], &mut all[..], SystemOperation::max());
+        let [moved, expires] = all;
         if self.share.must_redraw(moved) {
             self.redraw(false)?;
+        } else if expires > 0.0 {
+            self.share.expire_search();
         }
         Ok(())
     }
@@ -180,13 +194,6 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
 
     fn any(&self, flag: bool) -> bool {
         self.total(flag as u64) > 0
-    }
-
-    fn largest(&self, value: f64) -> f64 {
-        let mut max = 0.0f64;
-        self.communicator
-            .all_reduce_into(&value, &mut max, SystemOperation::max());
-        max
     }
 
     /// Each ghost takes its owner's state.

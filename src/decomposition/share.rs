@@ -149,6 +149,16 @@ impl Share {
         self.world.predicted_largest_move(&self.drawn_at)
     }
 
+    /// Whether this share's neighbour search would make its list again at the next step.
+    pub fn search_expires(&self) -> bool {
+        self.world.search_expires_next_step()
+    }
+
+    /// Makes this share's neighbour list again at the next step (another share does).
+    pub fn expire_search(&mut self) {
+        self.world.expire_search();
+    }
+
     /// Whether the shares must be redrawn before the next step, given the largest
     /// [`Share::predicted_move`] over the ranks.
     pub fn must_redraw(&self, largest_move: f64) -> bool {

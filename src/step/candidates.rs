@@ -100,6 +100,17 @@ impl NeighbourSearch {
         self.valid = false;
     }
 
+    /// Where the bodies were when the list was made (`None` when it must be made anew anyway).
+    pub fn reference_positions(&self) -> Option<&[DVec3]> {
+        self.valid.then_some(&self.reference_position[..])
+    }
+
+    /// Makes the list again at the next update, as if a body had moved half a skin (the broad
+    /// phase goes on from its state).
+    pub fn expire(&mut self) {
+        self.valid = false;
+    }
+
     /// Bodies were added or removed: indices changed, so the search starts afresh.
     pub fn invalidate(&mut self) {
         self.valid = false;

@@ -235,6 +235,24 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
+    /// Whether the neighbour search will make its list again at the next step (a body would
+    /// have moved half a skin since the list was made, predicted as in
+    /// [`World::predicted_largest_move`]). Walls move alike in every share, and are left out.
+    pub fn search_expires_next_step(&self) -> bool {
+        match self.search.reference_positions() {
+            Some(from) if from.len() == self.bodies.len() => {
+                self.predicted_largest_move(from) > 0.5 * self.skin()
+            }
+            _ => true,
+        }
+    }
+
+    /// Makes the neighbour search's list again at the next step: the shares of a decomposed
+    /// world remake theirs at the same steps, so that none waits for another that does.
+    pub fn expire_search(&mut self) {
+        self.search.expire();
+    }
+
     /// How far the body that will have moved farthest from `from` (a place per body) will be
     /// after the next step's drift, predicted from the forces of the last evaluation. Shares are
     /// redrawn, all at once, before it would reach the distance their ghost layer allows.
