@@ -154,14 +154,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         };
         let mut sizes = vec![0i32; self.communicator.size() as usize];
         root.gather_into_root(&size, &mut sizes[..]);
-        let starts: Vec<i32> = sizes
-            .iter()
-            .scan(0, |at, &n| {
-                let start = *at;
-                *at += n;
-                Some(start)
-            })
-            .collect();
+        let starts = starts(&sizes);
         let mut all = vec![0u8; sizes.iter().sum::<i32>() as usize];
         root.gather_varcount_into_root(
             &bytes[..],
@@ -284,16 +277,6 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         send_counts: &[i32],
         receive_counts: &[i32],
     ) -> Vec<T> {
-        let starts = |counts: &[i32]| -> Vec<i32> {
-            counts
-                .iter()
-                .scan(0, |at, &c| {
-                    let start = *at;
-                    *at += c;
-                    Some(start)
-                })
-                .collect()
-        };
         let (send_starts, receive_starts) = (starts(send_counts), starts(receive_counts));
         let total: i32 = receive_counts.iter().sum();
         let mut incoming = vec![T::default(); total as usize];
@@ -303,4 +286,17 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         );
         incoming
     }
+}
+
+/// Where each rank's items start in a buffer that holds `counts[r]` items of rank `r`, rank
+/// after rank (the displacements of the `MPI_*v` collectives).
+fn starts(counts: &[i32]) -> Vec<i32> {
+    counts
+        .iter()
+        .scan(0, |at, &c| {
+            let start = *at;
+            *at += c;
+            Some(start)
+        })
+        .collect()
 }
