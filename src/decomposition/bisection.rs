@@ -189,9 +189,21 @@ impl Decomposition {
     /// must be a ghost on each of them but its owner.
     pub fn ranks_near(&self, p: DVec3, halo: f64) -> Vec<usize> {
         let mut found = Vec::new();
-        let mut stack = vec![&self.root];
-        while let Some(node) = stack.pop() {
-            match node {
+        self.ranks_near_into(p, halo, &mut found);
+        found
+    }
+
+    /// [`Decomposition::ranks_near`] into `found` (cleared first), with no allocation once
+    /// `found` has room: a redraw asks this of every body.
+    pub fn ranks_near_into(&self, p: DVec3, halo: f64, found: &mut Vec<usize>) {
+        found.clear();
+        // Depth-first; the stack holds at most one node per level of the tree, which has fewer
+        // levels than a usize has bits (each cut halves the ranks).
+        let mut stack: [&Node; usize::BITS as usize + 1] = [&self.root; usize::BITS as usize + 1];
+        let mut depth = 1;
+        while depth > 0 {
+            depth -= 1;
+            match stack[depth] {
                 Node::Rank(rank) => found.push(*rank),
                 Node::Cut {
                     axis,
@@ -200,16 +212,17 @@ impl Decomposition {
                     above,
                 } => {
                     if p[*axis] + halo >= *at {
-                        stack.push(above);
+                        stack[depth] = above;
+                        depth += 1;
                     }
                     if p[*axis] - halo < *at {
-                        stack.push(below);
+                        stack[depth] = below;
+                        depth += 1;
                     }
                 }
             }
         }
         found.sort_unstable();
-        found
     }
 
     /// Each rank's region, by rank.

@@ -238,12 +238,19 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             );
             self.rebalances += 1;
         }
-        let (out, migrations) = self.share.deliveries(&self.cuts, stale);
+        let (mut out, migrations) = self.share.deliveries(&self.cuts, stale);
         self.migrations += migrations;
+        // What this rank delivers itself (every body it keeps: most of what it sends) stays in
+        // memory; the others' deliveries travel as bytes.
+        let own = std::mem::take(&mut out[rank]);
         let mut outgoing = Vec::new();
         let mut send_counts = Vec::with_capacity(ranks);
-        for delivery in &out {
-            let bytes = rmp_serde::to_vec(delivery).expect("a delivery encodes");
+        for (to, delivery) in out.iter().enumerate() {
+            let bytes = if to == rank {
+                Vec::new()
+            } else {
+                rmp_serde::to_vec(delivery).expect("a delivery encodes")
+            };
             send_counts.push(bytes.len() as i32);
             outgoing.extend_from_slice(&bytes);
         }
@@ -252,8 +259,13 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             .all_to_all_into(&send_counts[..], &mut receive_counts[..]);
         let incoming = self.all_to_all(&outgoing, &send_counts, &receive_counts);
         let mut deliveries = Vec::with_capacity(ranks);
+        let mut own = Some(own);
         let mut at = 0;
         for (from, &count) in receive_counts.iter().enumerate() {
+            if from == rank {
+                deliveries.extend(own.take());
+                continue;
+            }
             let bytes = &incoming[at..at + count as usize];
             let delivery: Delivery =
                 rmp_serde::from_slice(bytes).map_err(|e| MpiRunError::Garbled {

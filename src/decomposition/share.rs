@@ -205,35 +205,41 @@ impl Share {
     pub fn deliveries(&self, cuts: &Decomposition, stale: bool) -> (Vec<Delivery>, u64) {
         let b = self.world.bodies();
         let mut out: Vec<Delivery> = vec![Delivery::default(); cuts.ranks()];
-        // Which ranks hold each owned body now (valid unless bodies left: then none).
-        let mut holders: Vec<Vec<u32>> = vec![Vec::new(); b.len()];
+        // Which other ranks hold each owned body now (valid unless bodies left: then none), as
+        // (body, rank) pairs sorted by body.
+        let mut holders: Vec<(u32, u32)> = Vec::new();
         if !stale {
             for (r, list) in self.send.iter().enumerate() {
-                for &i in list {
-                    holders[i as usize].push(r as u32);
-                }
+                holders.extend(list.iter().map(|&i| (i, r as u32)));
             }
         }
+        holders.sort_unstable();
         let skin = self.world.skin();
         let mut migrations = 0;
+        let (mut near, mut reach) = (Vec::new(), Vec::new());
+        let mut from = 0;
         for i in (0..b.len()).filter(|&i| !b.is_ghost(i)) {
+            // The ranks holding body i: a run of `holders`, which is sorted by body.
+            while from < holders.len() && (holders[from].0 as usize) < i {
+                from += 1;
+            }
+            let end = from + holders[from..].partition_point(|h| h.0 as usize == i);
+            let held_by = |r: usize| holders[from..end].iter().any(|h| h.1 as usize == r);
             let x = b.position[i];
-            let near = cuts.ranks_near(x, self.layer);
-            let to: Vec<usize> = cuts
-                .ranks_near(x, self.layer + skin)
-                .into_iter()
-                .filter(|r| near.contains(r) || holders[i].contains(&(*r as u32)))
-                .collect();
-            for &r in &to {
-                if r == self.rank || holders[i].contains(&(r as u32)) {
+            cuts.ranks_near_into(x, self.layer, &mut near);
+            cuts.ranks_near_into(x, self.layer + skin, &mut reach);
+            reach.retain(|r| near.contains(r) || held_by(*r));
+            for &r in &reach {
+                if r == self.rank || held_by(r) {
                     out[r].held.push(b.id[i]);
                 } else {
                     out[r].bodies.push(b.record(i));
                 }
             }
             let owner = cuts.owner(x);
-            let to = to.into_iter().map(|r| r as u32).collect();
-            out[owner].owned.push((b.id[i], to));
+            out[owner]
+                .owned
+                .push((b.id[i], reach.iter().map(|&r| r as u32).collect()));
             if owner != self.rank {
                 migrations += 1;
                 let contacts = self.world.contact_records(i);
