@@ -14,6 +14,7 @@ use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
+use crate::step::prefetch::prefetch;
 use crate::step::sphere_lanes;
 use crate::step::spheres::{self, EntryOut};
 use crate::step::Scene;
@@ -220,24 +221,15 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
     }
 }
 
-/// How many entries ahead the contact loop asks for the partner's motion: enough to cover a
-/// miss to memory with the work of the entries between.
+/// How many entries ahead the contact loop asks for the partner's motion, and the force sums for
+/// the loads of a body's incoming entries: enough to cover a miss to memory with the work between.
 const PREFETCH_AHEAD: usize = 8;
 
-/// Asks the CPU to bring the motion of body partner `partner` into the cache (a hint only).
-/// Partners are near in space but not in memory: in a large world, waiting for their motion
-/// was the contact loop's largest cost.
+/// Asks for the motion of body partner `partner` ([`prefetch`]).
 #[inline(always)]
 fn prefetch_motion(motion: &[BodyMotion], partner: Partner) {
-    #[cfg(target_arch = "x86_64")]
     if let Some(m) = partner.body().and_then(|j| motion.get(j as usize)) {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let line = (m as *const BodyMotion).cast::<i8>();
-        // SAFETY: a prefetch reads nothing; the pointer is to a live record (two cache lines).
-        unsafe {
-            _mm_prefetch(line, _MM_HINT_T0);
-            _mm_prefetch(line.add(64), _MM_HINT_T0);
-        }
+        prefetch(m);
     }
 }
 
@@ -286,6 +278,7 @@ pub fn accumulate(
     } = bodies;
     let orientation = &*orientation;
     let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
+    let count = force.len();
     force
         .par_iter_mut()
         .zip(torque.par_iter_mut())
@@ -299,6 +292,11 @@ pub fn accumulate(
             // (whether a candidate touches is a coin toss, and a mispredicted branch per entry
             // cost more than the addition): a sum that starts at +0 stays bit for bit the same
             // when ±0 is added.
+            if i + PREFETCH_AHEAD < count {
+                for &e in store.incoming(i + PREFETCH_AHEAD) {
+                    prefetch(&load[e as usize]);
+                }
+            }
             let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
             for e in store.own(i) {
                 f += load[e].force;

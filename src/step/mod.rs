@@ -15,6 +15,7 @@ pub mod candidates;
 pub mod detect;
 pub mod forces;
 pub mod lanes;
+mod prefetch;
 pub mod space_order;
 pub mod sphere_lanes;
 pub mod spheres;
