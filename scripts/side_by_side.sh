@@ -4,7 +4,7 @@
 # alike (alternated runs of one binary vary by ±30 % here; pairs side by side by a few %).
 #
 #   scripts/side_by_side.sh OLD_BINARY NEW_BINARY SCENE [ROUNDS] [STEPS] [WINDOW_START]
-#   scripts/side_by_side.sh /tmp/old/polydem target/release/polydem bench/spheres_65k.toml 2
+#   scripts/side_by_side.sh old-build/polydem target/release/polydem bench/spheres_65k.toml 2
 #
 # Prints, per round, both window rates (particle-steps/s) and new/old. Each run has one thread.
 set -euo pipefail
