@@ -76,7 +76,7 @@ pub struct World {
     search: NeighbourSearch,
     regions: RegionOutput,
     motion: Vec<BodyMotion>,
-    /// Per-chunk sums of the dissipated energy (working memory of `step::accumulate`).
+    /// Per-chunk sums of the dissipated energy (working memory of `step::detect_and_evaluate`).
     dissipated_chunks: Vec<f64>,
     forces_current: bool,
     /// What the next opening half kick gives beyond the work the ledger books for it, when the
@@ -304,14 +304,15 @@ impl World {
             inverse_step: 1.0 / self.time_step,
         };
         clock.lap(&mut self.times.other);
-        step::detect_and_evaluate(scene, laws, &mut self.contacts, dt);
-        clock.lap(&mut self.times.detect_and_evaluate);
-        self.dissipated += step::accumulate(
-            &mut self.bodies,
-            &self.contacts,
-            kick,
+        self.dissipated += step::detect_and_evaluate(
+            scene,
+            laws,
+            &mut self.contacts,
+            dt,
             &mut self.dissipated_chunks,
         );
+        clock.lap(&mut self.times.detect_and_evaluate);
+        step::accumulate(&mut self.bodies, &self.contacts, kick);
         self.book_wall_loads(dt);
         clock.lap(&mut self.times.accumulate);
         self.forces_current = true;

@@ -20,6 +20,7 @@ use crate::step::spheres::{self, EntryOut};
 use crate::step::Scene;
 use crate::wall::WallState;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// What the contact laws read besides the contacts.
 #[derive(Clone, Copy)]
@@ -176,27 +177,129 @@ impl LawInputs<'_> {
 
 /// Evaluates the contact law of every touching contact of a run of entries over the step `dt`
 /// (sphere pairs find their contact here too, see [`spheres`](super::spheres)). A contact that
-/// ended forgets its history; the energy its springs held is its report's `dissipated`.
-pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) {
-    // Touching sphere pairs go through the four-wide kernel in groups of four.
-    let mut group = sphere_lanes::Group::default();
-    // Without spin histories no law of the world has rolling friction.
-    let rolling = !state.spin.is_empty();
-    for k in 0..ids.key.len() {
-        let key = ids.key[k];
-        if let Some(ahead) = ids.key.get(k + PREFETCH_AHEAD) {
-            prefetch_motion(inputs.motion, ahead.partner);
+/// ended forgets its history; the energy its springs held is booked as dissipated. Returns the
+/// energy the run's contacts dissipated over the step, summed in entry order (those of a ghost's
+/// contacts left to its owner).
+///
+/// Relies on what the store keeps true between steps: an entry that does not touch holds no
+/// history, a zero load and a zero report. A sphere pair that was apart and stays apart is then
+/// left as it is, with nothing read of it but its flag and nothing written.
+pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) -> f64 {
+    let mut sorted = Sorted::default();
+    let mut dissipated = 0.0;
+    let count = ids.key.len();
+    for start in (0..count).step_by(RUN) {
+        let run = start..(start + RUN).min(count);
+        sorted.sort(&inputs, ids, state, run.clone());
+        evaluate_sorted(&inputs, ids, state, &sorted, dt);
+        dissipated += booked(&inputs, ids, state, run, sorted.ended());
+    }
+    dissipated
+}
+
+/// Entries the contact loop sorts at a time (the length of a parallel work item).
+const RUN: usize = super::CHUNK;
+
+/// A run's entries sorted by what they need: sphere pairs that touch, sphere pairs that touched
+/// and no longer do, and the others (sphere pairs that stay apart need nothing). Whether a
+/// candidate touches is a coin toss, so the sort is done without a branch on it: every entry is
+/// written at the end of each list, and the list's length grows by one where it belongs there.
+struct Sorted {
+    touching: [u32; RUN],
+    ended: [u32; RUN],
+    other: [u32; RUN],
+    lengths: [usize; 3],
+}
+
+impl Default for Sorted {
+    fn default() -> Self {
+        Sorted {
+            touching: [0; RUN],
+            ended: [0; RUN],
+            other: [0; RUN],
+            lengths: [0; 3],
         }
-        if ids.kind[k] == PairKind::Spheres {
-            if !spheres::overlaps(&inputs, key) {
-                spheres::apart(state.entry(k));
-            } else if rolling && spheres::law(&inputs, key).rolling_friction > 0.0 {
-                spheres::touching_pair(&inputs, key, state.entry(k), dt);
-            } else if let Some(four) = group.push(k) {
-                sphere_lanes::touching_pairs(&inputs, ids, state, four, dt);
+    }
+}
+
+impl Sorted {
+    /// Sorts the entries `run` (at most [`RUN`]).
+    #[inline(always)]
+    fn sort(&mut self, inputs: &LawInputs, ids: &EntryIds, state: &EntryState, run: Range<usize>) {
+        let [mut touching, mut ended, mut other] = [0; 3];
+        for k in run {
+            let key = ids.key[k];
+            if let Some(ahead) = ids.key.get(k + PREFETCH_AHEAD) {
+                prefetch_motion(inputs.motion, ahead.partner);
             }
-            continue;
+            if ids.kind[k] == PairKind::Spheres {
+                let touches = spheres::overlaps(inputs, key);
+                self.touching[touching] = k as u32;
+                touching += touches as usize;
+                self.ended[ended] = k as u32;
+                ended += (!touches & state.touching[k]) as usize;
+            } else {
+                self.other[other] = k as u32;
+                other += 1;
+            }
         }
+        self.lengths = [touching, ended, other];
+    }
+
+    fn touching(&self) -> &[u32] {
+        &self.touching[..self.lengths[0]]
+    }
+
+    fn ended(&self) -> &[u32] {
+        &self.ended[..self.lengths[1]]
+    }
+
+    fn other(&self) -> &[u32] {
+        &self.other[..self.lengths[2]]
+    }
+}
+
+/// The contact laws of the sorted entries (each entry's result is its own, whatever the order).
+#[inline(always)]
+fn evaluate_sorted(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    sorted: &Sorted,
+    dt: f64,
+) {
+    // Touching sphere pairs go through the four-wide kernel in groups of four. Without spin
+    // histories no law of the world has rolling friction.
+    let rolling = !state.spin.is_empty();
+    if rolling {
+        let mut group = sphere_lanes::Group::default();
+        for &k in sorted.touching() {
+            let (k, key) = (k as usize, ids.key[k as usize]);
+            if spheres::law(inputs, key).rolling_friction > 0.0 {
+                spheres::touching_pair(inputs, key, state.entry(k), dt);
+            } else if let Some(four) = group.push(k) {
+                sphere_lanes::touching_pairs(inputs, ids, state, four, dt);
+            }
+        }
+        for &k in group.rest() {
+            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
+        }
+    } else {
+        let mut fours = sorted.touching().chunks_exact(4);
+        for four in &mut fours {
+            let four = std::array::from_fn(|i| four[i] as usize);
+            sphere_lanes::touching_pairs(inputs, ids, state, four, dt);
+        }
+        for &k in fours.remainder() {
+            let k = k as usize;
+            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
+        }
+    }
+    for &k in sorted.ended() {
+        spheres::apart(state.entry(k as usize));
+    }
+    for &k in sorted.other() {
+        let (k, key) = (k as usize, ids.key[k as usize]);
         let history = &mut state.history[k];
         let spin = state.spin.get_mut(k);
         let r = if state.touching[k] {
@@ -216,9 +319,36 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
         state.load[k] = Load::new(&r, state.geometry[k].point, centre_a, centre_b);
         state.report[k] = LawReport::of(&r);
     }
-    for &k in group.rest() {
-        spheres::touching_pair(&inputs, ids.key[k], state.entry(k), dt);
+}
+
+/// The energy the entries `run` dissipated this step, added up in entry order (a ghost's
+/// contacts are left to its owner); then the reports of the sphere pairs that `ended` go back
+/// to zero, so that what their springs held is booked once (the next steps leave them as they
+/// are).
+#[inline(always)]
+fn booked(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    run: Range<usize>,
+    ended: &[u32],
+) -> f64 {
+    let ghost = &inputs.scene.bodies.ghost;
+    let reports = &state.report[run.clone()];
+    let sum = if ghost.is_empty() {
+        reports.iter().map(|r| r.dissipated).sum::<f64>()
+    } else {
+        reports
+            .iter()
+            .zip(&ids.key[run])
+            .filter(|(_, key)| !ghost[key.a as usize])
+            .map(|(r, _)| r.dissipated)
+            .sum::<f64>()
+    };
+    for &k in ended {
+        state.report[k as usize].dissipated = 0.0;
     }
+    sum
 }
 
 /// How many entries ahead the contact loop asks for the partner's motion, and the force sums for
@@ -255,14 +385,8 @@ pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Re
 
 /// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
 /// then those whose partner it is, in store order; then gives each body the step's closing half
-/// `kick`, if any, while its sums are at hand. Returns the energy dissipated this step. `partial`
-/// is working memory kept from step to step.
-pub fn accumulate(
-    bodies: &mut Bodies,
-    store: &ContactStore,
-    kick: Option<Kick>,
-    partial: &mut Vec<f64>,
-) -> f64 {
+/// `kick`, if any, while its sums are at hand.
+pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>) {
     let load = store.loads();
     let Bodies {
         orientation,
@@ -273,7 +397,6 @@ pub fn accumulate(
         inv_inertia,
         force,
         torque,
-        ghost,
         ..
     } = bodies;
     let orientation = &*orientation;
@@ -321,29 +444,6 @@ pub fn accumulate(
                 kick.apply(body, f, t);
             }
         });
-    // Summed in fixed chunks, then the chunks in order: the same figure for any thread count. A
-    // ghost's contacts are left to its owner.
-    if ghost.is_empty() {
-        store
-            .reports()
-            .par_chunks(4096)
-            .map(|c| c.iter().map(|r| r.dissipated).sum::<f64>())
-            .collect_into_vec(partial);
-    } else {
-        store
-            .reports()
-            .par_chunks(4096)
-            .zip(store.keys().par_chunks(4096))
-            .map(|(c, k)| {
-                c.iter()
-                    .zip(k)
-                    .filter(|(_, k)| !ghost[k.a as usize])
-                    .map(|(r, _)| r.dissipated)
-                    .sum::<f64>()
-            })
-            .collect_into_vec(partial);
-    }
-    partial.iter().sum()
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'

@@ -38,8 +38,16 @@ const CHUNK: usize = 256;
 
 /// The narrow phase of the single-contact pairs, then the contact laws of every entry, over the
 /// step `dt`, chunk by chunk in parallel (regional pairs' geometry comes from
-/// [`detect_regions`], run before).
-pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactStore, dt: f64) {
+/// [`detect_regions`], run before). Returns the energy the contacts dissipated over the step:
+/// each chunk's sum, then the chunks' in order, so the same figure for any thread count
+/// (`partial` is working memory kept from step to step).
+pub fn detect_and_evaluate(
+    scene: Scene,
+    laws: LawInputs,
+    store: &mut ContactStore,
+    dt: f64,
+    partial: &mut Vec<f64>,
+) -> f64 {
     let (ids, state) = store.pass_mut();
     // A world without polyhedra keeps no volumes, one without rolling friction and polyhedra no
     // spin histories: each chunk then gets an empty slice.
@@ -56,7 +64,7 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
         .zip(spin)
         .zip(state.load.par_chunks_mut(CHUNK))
         .zip(state.report.par_chunks_mut(CHUNK))
-        .for_each(
+        .map(
             |((((((((key, kind), touching), geometry), volume), history), spin), load), report)| {
                 let ids = EntryIds { key, kind };
                 let mut state = EntryState {
@@ -69,9 +77,11 @@ pub fn detect_and_evaluate(scene: Scene, laws: LawInputs, store: &mut ContactSto
                     report,
                 };
                 detect::detect_single(scene, &ids, &mut state);
-                forces::evaluate(laws, &ids, &mut state, dt);
+                forces::evaluate(laws, &ids, &mut state, dt)
             },
-        );
+        )
+        .collect_into_vec(partial);
+    partial.iter().sum()
 }
 
 /// The chunks of a side array that a world may not keep: its chunks, or `chunks` empty slices.
