@@ -304,13 +304,8 @@ impl World {
             inverse_step: 1.0 / self.time_step,
         };
         clock.lap(&mut self.times.other);
-        self.dissipated += step::detect_and_evaluate(
-            scene,
-            laws,
-            &mut self.contacts,
-            dt,
-            &mut self.dissipated_chunks,
-        );
+        self.dissipated +=
+            step::detect_and_evaluate(laws, &mut self.contacts, dt, &mut self.dissipated_chunks);
         clock.lap(&mut self.times.detect_and_evaluate);
         step::accumulate(&mut self.bodies, &self.contacts, kick);
         self.book_wall_loads(dt);

@@ -88,17 +88,21 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
     store.set_regions(&regions.assigned, scene.bodies)
 }
 
-/// The geometry of a run of entries of pairs that touch in one place at most (regional entries
-/// are left as [`detect_regions`] set them). Contacts that end are booked by the contact laws.
-pub(crate) fn detect_single(scene: Scene, ids: &EntryIds, state: &mut EntryState) {
+/// The geometry of the `entries` of a run (indices into it) that are pairs touching in one place
+/// at most (regional entries are left as [`detect_regions`] set them; sphere pairs find their
+/// contact with their law, see `step::spheres`). Contacts that end are booked by the contact laws.
+pub(crate) fn detect_single(scene: Scene, ids: &EntryIds, state: &mut EntryState, entries: &[u32]) {
+    let mut singles = entries
+        .iter()
+        .map(|&k| k as usize)
+        .filter(|&k| ids.kind[k] == PairKind::Single)
+        .peekable();
+    if singles.peek().is_none() {
+        return;
+    }
     SCRATCH.with_borrow_mut(|s| {
-        for k in 0..ids.key.len() {
-            let key = &ids.key[k];
-            let found = match ids.kind[k] {
-                // Sphere pairs find their contact with their law (step::spheres).
-                PairKind::Regional | PairKind::Spheres => continue,
-                PairKind::Single => single(scene, key, &mut s.clip),
-            };
+        for k in singles {
+            let found = single(scene, &ids.key[k], &mut s.clip);
             state.touching[k] = found.is_some();
             if let Some(found) = found {
                 state.geometry[k] = found.contact_point();

@@ -14,6 +14,7 @@ use crate::integrate::{BodyMotion, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
+use crate::step::detect;
 use crate::step::prefetch::prefetch;
 use crate::step::sphere_lanes;
 use crate::step::spheres::{self, EntryOut};
@@ -298,6 +299,8 @@ fn evaluate_sorted(
     for &k in sorted.ended() {
         spheres::apart(state.entry(k as usize));
     }
+    // The other pairs' geometry first (the narrow phase of pairs that touch in one place).
+    detect::detect_single(inputs.scene, ids, state, sorted.other());
     for &k in sorted.other() {
         let (k, key) = (k as usize, ids.key[k as usize]);
         let history = &mut state.history[k];

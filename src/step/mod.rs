@@ -42,7 +42,6 @@ const CHUNK: usize = 256;
 /// each chunk's sum, then the chunks' in order, so the same figure for any thread count
 /// (`partial` is working memory kept from step to step).
 pub fn detect_and_evaluate(
-    scene: Scene,
     laws: LawInputs,
     store: &mut ContactStore,
     dt: f64,
@@ -76,7 +75,6 @@ pub fn detect_and_evaluate(
                     load,
                     report,
                 };
-                detect::detect_single(scene, &ids, &mut state);
                 forces::evaluate(laws, &ids, &mut state, dt)
             },
         )
