@@ -28,6 +28,7 @@ pub mod step;
 pub mod time_table;
 pub mod timestep;
 pub mod wall;
+pub(crate) mod wide;
 pub mod world;
 
 pub use world::{World, WorldConfig};

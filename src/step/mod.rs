@@ -75,7 +75,7 @@ pub fn detect_and_evaluate(
                     load,
                     report,
                 };
-                forces::evaluate(laws, &ids, &mut state, dt)
+                crate::wide::run(|| forces::evaluate(laws, &ids, &mut state, dt))
             },
         )
         .collect_into_vec(partial);

@@ -59,7 +59,7 @@ pub(crate) fn touching_pairs(
     dt: f64,
 ) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512vl") {
+    if crate::wide::available() {
         // SAFETY: the CPU has AVX-512VL (and so AVX), which is all `with_avx512` is compiled for.
         unsafe { with_avx512(inputs, ids, state, entries, dt) };
     } else if std::arch::is_x86_feature_detected!("avx") {
