@@ -230,8 +230,8 @@ impl Sorted {
         let [mut touching, mut ended, mut other] = [0; 3];
         for k in run {
             let key = ids.key[k];
-            if let Some(ahead) = ids.key.get(k + PREFETCH_AHEAD) {
-                prefetch_motion(inputs.motion, ahead.partner);
+            if let Some(ahead) = ids.key.get(k + SORT_PREFETCH_AHEAD) {
+                prefetch_partner(inputs, ahead.partner);
             }
             if ids.kind[k] == PairKind::Spheres {
                 let touches = spheres::overlaps(inputs, key);
@@ -358,11 +358,26 @@ fn booked(
 /// the loads of a body's incoming entries: enough to cover a miss to memory with the work between.
 const PREFETCH_AHEAD: usize = 8;
 
-/// Asks for the motion of body partner `partner` ([`prefetch`]).
+/// How many entries ahead the sort of a chunk asks for the partner's motion: its work per entry
+/// is a few nanoseconds, so it must ask further ahead than the force sums.
+const SORT_PREFETCH_AHEAD: usize = 24;
+
+/// Asks for what the contact loop reads of body partner `partner` ([`prefetch`]): its motion,
+/// and its mass and material, which the laws of a touching pair read.
 #[inline(always)]
-fn prefetch_motion(motion: &[BodyMotion], partner: Partner) {
-    if let Some(m) = partner.body().and_then(|j| motion.get(j as usize)) {
+fn prefetch_partner(inputs: &LawInputs, partner: Partner) {
+    let Some(j) = partner.body().map(|j| j as usize) else {
+        return;
+    };
+    let bodies = inputs.scene.bodies;
+    if let (Some(m), Some(mass), Some(material)) = (
+        inputs.motion.get(j),
+        bodies.mass.get(j),
+        bodies.material.get(j),
+    ) {
         prefetch(m);
+        prefetch(mass);
+        prefetch(material);
     }
 }
 
