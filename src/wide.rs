@@ -1,12 +1,17 @@
-//! Hot loops compiled twice: for the baseline x86-64 and for AVX-512VL, chosen at run time.
+//! Whether the CPU has AVX-512VL, for which the four-wide sphere kernel has a second copy
+//! (`step::sphere_lanes`).
 //!
-//! AVX-512VL gives the compiler 32 vector registers instead of 16; the step's per-body and
-//! per-contact loops keep many values live and spill them to the stack with 16. Only the
-//! registers and the instructions' encoding change: every operation is the same IEEE one (Rust
-//! never contracts a multiply and an add, whatever the CPU has), so both builds of a loop give
-//! the same bits, on any machine (a test below holds a world's steps to it).
+//! AVX-512VL gives the compiler 32 vector registers instead of 16; the kernel keeps many values
+//! live and spills them to the stack with 16. Only the registers and the instructions' encoding
+//! change: every operation is the same IEEE one (Rust never contracts a multiply and an add,
+//! whatever the CPU has), so both copies give the same bits, on any machine (a test below holds a
+//! world's steps to it).
+//!
+//! Only a function marked `#[target_feature]` and what is inlined into it by `#[inline(always)]`
+//! get the wider registers: a closure called from such a function stays a function of its own,
+//! compiled for the baseline (tried for the per-body loops, it changed nothing).
 
-/// Whether the CPU has AVX-512VL (and the wide copies are used).
+/// Whether the CPU has AVX-512VL (and the kernel's wide copy is used).
 #[inline(always)]
 pub(crate) fn available() -> bool {
     #[cfg(test)]
@@ -17,23 +22,6 @@ pub(crate) fn available() -> bool {
     return std::arch::is_x86_feature_detected!("avx512vl");
     #[cfg(not(target_arch = "x86_64"))]
     false
-}
-
-/// Runs `work`, inlined into a copy compiled for AVX-512VL where the CPU has it.
-#[inline(always)]
-pub(crate) fn run<R>(work: impl FnOnce() -> R) -> R {
-    #[cfg(target_arch = "x86_64")]
-    if available() {
-        // SAFETY: the CPU has AVX-512VL (and AVX), all `with_avx512` is compiled for.
-        return unsafe { with_avx512(work) };
-    }
-    work()
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx,avx2,avx512f,avx512vl")]
-unsafe fn with_avx512<R>(work: impl FnOnce() -> R) -> R {
-    work()
 }
 
 #[cfg(test)]
@@ -48,7 +36,7 @@ mod tests {
     use crate::{World, WorldConfig};
     use std::sync::atomic::{AtomicBool, Ordering};
 
-    /// Set while the test steps its baseline world: every loop then takes its baseline copy.
+    /// Set while the test steps its baseline world: the kernel then takes its AVX copy.
     pub(super) static BASELINE: AtomicBool = AtomicBool::new(false);
 
     /// Spheres poured into a box of planes (sphere pairs through the four-wide kernel and the
@@ -129,9 +117,9 @@ mod tests {
     }
 
     #[test]
-    fn the_wide_copies_of_the_loops_give_the_baseline_bits() {
+    fn the_wide_copy_of_the_kernel_gives_the_baseline_bits() {
         if !super::available() {
-            eprintln!("this CPU has no AVX-512VL: only the baseline copies run here");
+            eprintln!("this CPU has no AVX-512VL: only the AVX copy runs here");
         }
         let (mut baseline, mut wide) = (pour(), pour());
         BASELINE.store(true, Ordering::Relaxed);

@@ -84,33 +84,31 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
         .enumerate()
         .for_each(|(c, (((((x, v), q), l), w), m))| {
             let first = c * BODIES_PER_TASK;
-            crate::wide::run(|| {
-                for k in 0..x.len() {
-                    let i = first + k;
-                    let (f, t, inv_i) = (force[i], torque[i], inv_inertia[i]);
-                    let body = KickedBody {
-                        velocity: &mut v[k],
-                        angular_momentum: &mut l[k],
-                        angular_velocity: &mut w[k],
-                        orientation: q[k],
-                        inv_mass: inv_mass[i],
-                        inv_inertia: inv_i,
-                    };
-                    kick.apply(body, f, t);
-                    x[k] += v[k] * dt;
-                    q[k] = rotation::drift(q[k], l[k], inv_i, dt);
-                    // The body frame turned, so the world-frame ω of a non-spherical body changed.
-                    w[k] = rotation::angular_velocity(q[k], l[k], inv_i);
-                    m[k] = BodyMotion::predict(
-                        x[k],
-                        v[k],
-                        w[k],
-                        (q[k], l[k], inv_i),
-                        (f * inv_mass[i] + gravity, t),
-                        h,
-                        bounding_radius[i],
-                    );
-                }
-            })
+            for k in 0..x.len() {
+                let i = first + k;
+                let (f, t, inv_i) = (force[i], torque[i], inv_inertia[i]);
+                let body = KickedBody {
+                    velocity: &mut v[k],
+                    angular_momentum: &mut l[k],
+                    angular_velocity: &mut w[k],
+                    orientation: q[k],
+                    inv_mass: inv_mass[i],
+                    inv_inertia: inv_i,
+                };
+                kick.apply(body, f, t);
+                x[k] += v[k] * dt;
+                q[k] = rotation::drift(q[k], l[k], inv_i, dt);
+                // The body frame turned, so the world-frame ω of a non-spherical body changed.
+                w[k] = rotation::angular_velocity(q[k], l[k], inv_i);
+                m[k] = BodyMotion::predict(
+                    x[k],
+                    v[k],
+                    w[k],
+                    (q[k], l[k], inv_i),
+                    (f * inv_mass[i] + gravity, t),
+                    h,
+                    bounding_radius[i],
+                );
+            }
         });
 }

@@ -421,56 +421,48 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
     let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
     let count = force.len();
     force
-        .par_chunks_mut(BODIES_PER_TASK)
-        .zip(torque.par_chunks_mut(BODIES_PER_TASK))
-        .zip(velocity.par_chunks_mut(BODIES_PER_TASK))
-        .zip(angular_momentum.par_chunks_mut(BODIES_PER_TASK))
-        .zip(angular_velocity.par_chunks_mut(BODIES_PER_TASK))
+        .par_iter_mut()
+        .zip(torque.par_iter_mut())
+        .zip(velocity.par_iter_mut())
+        .zip(angular_momentum.par_iter_mut())
+        .zip(angular_velocity.par_iter_mut())
         .enumerate()
-        .for_each(|(c, ((((force, torque), v), l), w))| {
-            let first = c * BODIES_PER_TASK;
-            crate::wide::run(|| {
-                for k in 0..force.len() {
-                    let i = first + k;
-                    // Entries that do not touch hold a zero load, so every entry is added
-                    // without a test (whether a candidate touches is a coin toss, and a
-                    // mispredicted branch per entry cost more than the addition): a sum that
-                    // starts at +0 stays bit for bit the same when ±0 is added.
-                    if i + PREFETCH_AHEAD < count {
-                        for &e in store.incoming(i + PREFETCH_AHEAD) {
-                            prefetch(&load[e as usize]);
-                        }
-                    }
-                    let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
-                    for e in store.own(i) {
-                        f += load[e].force;
-                        t += load[e].torque_a;
-                    }
-                    for &e in store.incoming(i) {
-                        let e = e as usize;
-                        f -= load[e].force;
-                        t += load[e].torque_b;
-                    }
-                    force[k] = f;
-                    torque[k] = t;
-                    if let Some(kick) = kick {
-                        let body = KickedBody {
-                            velocity: &mut v[k],
-                            angular_momentum: &mut l[k],
-                            angular_velocity: &mut w[k],
-                            orientation: orientation[i],
-                            inv_mass: inv_mass[i],
-                            inv_inertia: inv_inertia[i],
-                        };
-                        kick.apply(body, f, t);
-                    }
+        .with_min_len(256)
+        .for_each(|(i, ((((force, torque), v), l), w))| {
+            // Entries that do not touch hold a zero load, so every entry is added without a test
+            // (whether a candidate touches is a coin toss, and a mispredicted branch per entry
+            // cost more than the addition): a sum that starts at +0 stays bit for bit the same
+            // when ±0 is added.
+            if i + PREFETCH_AHEAD < count {
+                for &e in store.incoming(i + PREFETCH_AHEAD) {
+                    prefetch(&load[e as usize]);
                 }
-            })
+            }
+            let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
+            for e in store.own(i) {
+                f += load[e].force;
+                t += load[e].torque_a;
+            }
+            for &e in store.incoming(i) {
+                let e = e as usize;
+                f -= load[e].force;
+                t += load[e].torque_b;
+            }
+            *force = f;
+            *torque = t;
+            if let Some(kick) = kick {
+                let body = KickedBody {
+                    velocity: v,
+                    angular_momentum: l,
+                    angular_velocity: w,
+                    orientation: orientation[i],
+                    inv_mass: inv_mass[i],
+                    inv_inertia: inv_inertia[i],
+                };
+                kick.apply(body, f, t);
+            }
         });
 }
-
-/// Bodies per parallel work item of the force sums.
-const BODIES_PER_TASK: usize = 256;
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'
 /// limits those of two spheres under a step of 1/`inverse_step`.

@@ -75,7 +75,7 @@ pub fn detect_and_evaluate(
                     load,
                     report,
                 };
-                crate::wide::run(|| forces::evaluate(laws, &ids, &mut state, dt))
+                forces::evaluate(laws, &ids, &mut state, dt)
             },
         )
         .collect_into_vec(partial);
