@@ -48,28 +48,29 @@ impl WallLoads {
         let count = planes.len() + walls.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
-        let (touching, geometry, load) = (store.touching(), store.geometry(), store.loads());
+        let (keys, touching) = (store.keys(), store.touching());
+        let (geometry, load) = (store.geometry(), store.loads());
         let mut power = 0.0;
         let entries = store.wall_entries();
         for (n, &e) in entries.iter().enumerate() {
             // The wall entries are scattered over the store, which the contact loop has passed
-            // over since: ask for an entry's lines some entries ahead (2.4 % of the 65,000-sphere
+            // over since: ask for an entry's lines some entries ahead (2.5 % of the 65,000-sphere
             // step went to waiting for them).
             if let Some(&ahead) = entries.get(n + PREFETCH_AHEAD) {
                 let ahead = ahead as usize;
                 prefetch(&touching[ahead]);
-                prefetch(&store.keys()[ahead]);
+                prefetch(&keys[ahead]);
                 prefetch(&geometry[ahead]);
                 prefetch(&load[ahead]);
             }
             let e = e as usize;
-            if !touching[e] || !bodies.counts(store.keys()[e].a as usize) {
+            if !touching[e] || !bodies.counts(keys[e].a as usize) {
                 continue;
             }
             // For a wall partner the load's second moment is the law's couple on the body.
             let (f, torque) = (load[e].force, load[e].torque_b);
             let (p, n) = (geometry[e].point, geometry[e].normal);
-            let (w, centre) = match store.keys()[e].partner {
+            let (w, centre) = match keys[e].partner {
                 Partner::Plane(k) => (k as usize, planes[k as usize].point),
                 Partner::Mesh(m) => {
                     let m = m as usize;
