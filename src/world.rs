@@ -1,7 +1,7 @@
 //! The simulated world: its state, how it is built and changed, and its time step.
 
 use crate::body::Bodies;
-use crate::contact::ContactStore;
+use crate::contact::{ContactStore, Placement, StoreLayout};
 use crate::contact_law::PolyhedralLaw;
 use crate::flow::FlowMeter;
 use crate::integrate::{self, BodyMotion, Kick};
@@ -321,8 +321,12 @@ impl World {
             states: &self.wall_states,
             time: self.wall_time,
         };
-        self.wall_loads
-            .book(&self.contacts, &self.bodies, walls, dt);
+        let at = Placement {
+            bodies: &self.bodies,
+            shapes: &self.shapes,
+            planes: &self.planes,
+        };
+        self.wall_loads.book(&self.contacts, at, walls, dt);
     }
 
     /// Makes the candidate list again if it may have gone stale (`step::candidates`), carrying
@@ -333,11 +337,9 @@ impl World {
             .search
             .update(&self.bodies, &self.shapes, walls.0, walls.1)
         {
-            let volumes = self.shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
-            let spins = volumes || self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
-            self.dissipated += self
-                .contacts
-                .set_candidates(list, &self.bodies, volumes, spins);
+            let rolling = self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
+            let layout = StoreLayout::of(&self.shapes, !self.mesh_walls.is_empty(), rolling);
+            self.dissipated += self.contacts.set_candidates(list, &self.bodies, layout);
         }
     }
 

@@ -5,9 +5,14 @@ mod key;
 mod load;
 mod regions;
 mod store;
+mod view;
 
 pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits};
 pub use load::{LawReport, Load};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
-pub use store::{Candidate, ContactRef, ContactStore, EntryRecord, PartnerId, UnplacedContact};
+pub use store::{
+    Candidate, ContactRef, ContactStore, EntryRecord, PartnerId, Placement, StoreLayout,
+    UnplacedContact,
+};
 pub(crate) use store::{EntryIds, EntryState};
+pub use view::Contacts;

@@ -18,7 +18,9 @@ use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
 use crate::math::permute_in_place;
-use crate::narrow_phase::{ContactPoint, Geometry};
+use crate::narrow_phase::{self, ContactPoint, Geometry};
+use crate::shape::Shape;
+use crate::wall::Plane;
 
 mod transfer;
 pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
@@ -59,6 +61,15 @@ impl Candidate {
     }
 }
 
+/// Where the bodies and planes are: what the store finds again the geometry it does not keep from
+/// ([`StoreLayout::geometry`]).
+#[derive(Clone, Copy)]
+pub struct Placement<'a> {
+    pub bodies: &'a Bodies,
+    pub shapes: &'a [Shape],
+    pub planes: &'a [Plane],
+}
+
 /// One contact as outside code sees it.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactRef<'a> {
@@ -76,6 +87,8 @@ struct Persistent {
     key: Vec<ContactKey>,
     kind: Vec<PairKind>,
     touching: Vec<bool>,
+    /// Empty in a world of spheres and planes alone; else one per entry, but never written for
+    /// a sphere pair (see [`ContactStore::contact_point`]).
     geometry: Vec<ContactPoint>,
     history: Vec<History>,
     /// Empty in a world without rolling friction and polyhedra.
@@ -90,7 +103,9 @@ impl Persistent {
         }
         self.key[to] = self.key[from];
         self.touching[to] = self.touching[from];
-        self.geometry[to] = self.geometry[from];
+        if !self.geometry.is_empty() {
+            self.geometry[to] = self.geometry[from];
+        }
         self.history[to] = self.history[from];
         if !self.spin.is_empty() {
             self.spin[to] = self.spin[from];
@@ -101,7 +116,9 @@ impl Persistent {
     fn reset_entry(&mut self, k: usize, key: ContactKey) {
         self.key[k] = key;
         self.touching[k] = false;
-        self.geometry[k] = ContactPoint::default();
+        if let Some(g) = self.geometry.get_mut(k) {
+            *g = ContactPoint::default();
+        }
         self.history[k] = History::default();
         if !self.spin.is_empty() {
             self.spin[k] = SpinHistory::default();
@@ -114,14 +131,12 @@ impl Persistent {
         self.touching.truncate(len);
         self.geometry.truncate(len);
         self.history.truncate(len);
-        if !self.spin.is_empty() {
-            self.spin.truncate(len);
-        }
+        self.spin.truncate(len);
     }
 
-    /// Grows (or shrinks) the arrays to `len` entries, with spin histories if `spins`; new
-    /// entries are filled by the caller.
-    fn resize(&mut self, len: usize, spins: bool) {
+    /// Grows (or shrinks) the arrays to `len` entries, with geometries and spin histories if the
+    /// `layout` keeps them; new entries are filled by the caller.
+    fn resize(&mut self, len: usize, layout: StoreLayout) {
         let key = ContactKey {
             a: 0,
             partner: Partner::Body(0),
@@ -130,9 +145,11 @@ impl Persistent {
         resize_tight(&mut self.key, len, key);
         resize_tight(&mut self.kind, len, PairKind::Single);
         resize_tight(&mut self.touching, len, false);
-        resize_tight(&mut self.geometry, len, ContactPoint::default());
+        if layout.geometry {
+            resize_tight(&mut self.geometry, len, ContactPoint::default());
+        }
         resize_tight(&mut self.history, len, History::default());
-        if spins {
+        if layout.spins {
             resize_tight(&mut self.spin, len, SpinHistory::default());
         }
     }
@@ -167,6 +184,35 @@ pub struct ContactStore {
     wall_entries: Vec<u32>,
 }
 
+/// Which arrays a world's store keeps beside those every entry has: what its bodies and walls can
+/// need. Fixed by the scene (its shapes, walls and laws).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StoreLayout {
+    /// The contact geometry (normal, point, overlap) of every entry but sphere pairs: in a world
+    /// with polyhedra or mesh walls, whose contacts cost a narrow phase to find and whose regions
+    /// are matched to last step's by it. A world of spheres and planes alone keeps none (56 bytes
+    /// an entry): a contact of two spheres, or of a sphere and a plane, is found again from the
+    /// bodies when it is read ([`ContactStore::contact_point`]).
+    pub geometry: bool,
+    /// The overlap volume of polyhedral contacts under the volume law (a world with polyhedra).
+    pub volumes: bool,
+    /// Rolling and twisting springs (a world with rolling friction or polyhedra).
+    pub spins: bool,
+}
+
+impl StoreLayout {
+    /// The layout of a world of bodies of `shapes`, with mesh walls or not, with rolling friction
+    /// in some pair law or not.
+    pub fn of(shapes: &[Shape], mesh_walls: bool, rolling_friction: bool) -> Self {
+        let polyhedra = shapes.iter().any(|s| !matches!(s, Shape::Sphere(_)));
+        StoreLayout {
+            geometry: polyhedra || mesh_walls,
+            volumes: polyhedra,
+            spins: polyhedra || rolling_friction,
+        }
+    }
+}
+
 /// `values.resize(len, value)`, but growing the capacity to `len` and an eighth rather than
 /// doubling it: the store is most of a run's memory, and the count of candidates changes a
 /// little at each neighbour search.
@@ -183,8 +229,7 @@ impl ContactStore {
     /// that are no longer candidates still held (none in a consistent neighbour search; booked as
     /// dissipated by the caller; a ghost's contacts are left to its owner, see `Bodies::ghost`).
     ///
-    /// `volumes`: some contacts may be polyhedral, with an overlap volume to keep; `spins`: some
-    /// contacts may have rolling or twisting springs (rolling friction or polyhedra).
+    /// `layout`: which arrays besides the keys and histories the entries keep.
     ///
     /// The merge is done in place, with no second copy of the entries: the entries that stay are
     /// first moved down over those that go (front to back), then spread out to their new places
@@ -194,9 +239,11 @@ impl ContactStore {
         &mut self,
         candidates: &[Candidate],
         bodies: &Bodies,
-        volumes: bool,
-        spins: bool,
+        layout: StoreLayout,
     ) -> f64 {
+        let StoreLayout {
+            geometry, volumes, ..
+        } = layout;
         let ids = &bodies.id;
         debug_assert!(candidates
             .windows(2)
@@ -212,10 +259,15 @@ impl ContactStore {
             count += c.entries();
         }
         let e = &mut self.entries;
-        if spins {
+        if layout.spins {
             e.spin.resize(e.key.len(), SpinHistory::default());
         } else {
             e.spin.clear();
+        }
+        if geometry {
+            e.geometry.resize(e.key.len(), ContactPoint::default());
+        } else {
+            e.geometry.clear();
         }
         // What the last evaluation gave goes along with its entry (read between steps: the
         // ledger, the outputs), so the store tells the same story after a new list as before.
@@ -251,7 +303,7 @@ impl ContactStore {
         self.report.truncate(kept);
         self.volume.truncate(kept);
         // 2. Spread them to their new places from the back, new entries between them.
-        e.resize(count, spins);
+        e.resize(count, layout);
         resize_tight(&mut self.load, count, Load::default());
         resize_tight(&mut self.report, count, LawReport::default());
         if volumes {
@@ -348,7 +400,9 @@ impl ContactStore {
             e.key[kept] = ContactKey { a, partner, ..key };
             e.kind[kept] = e.kind[k];
             e.touching[kept] = e.touching[k];
-            e.geometry[kept] = e.geometry[k];
+            if !e.geometry.is_empty() {
+                e.geometry[kept] = e.geometry[k];
+            }
             e.history[kept] = e.history[k];
             if !e.spin.is_empty() {
                 e.spin[kept] = e.spin[k];
@@ -395,8 +449,9 @@ impl ContactStore {
             let a = new_index[key.a as usize];
             let key = match key.partner {
                 Partner::Body(j) if ids[new_index[j as usize] as usize] < ids[a as usize] => {
-                    let g = &mut e.geometry[k];
-                    g.normal = -g.normal;
+                    if let Some(g) = e.geometry.get_mut(k) {
+                        g.normal = -g.normal;
+                    }
                     let h = &mut e.history[k];
                     h.tangential_spring = -h.tangential_spring;
                     h.damper_force = -h.damper_force;
@@ -432,7 +487,9 @@ impl ContactStore {
         permute_in_place(&mut e.key, &from, done);
         permute_in_place(&mut e.kind, &from, done);
         permute_in_place(&mut e.touching, &from, done);
-        permute_in_place(&mut e.geometry, &from, done);
+        if !e.geometry.is_empty() {
+            permute_in_place(&mut e.geometry, &from, done);
+        }
         permute_in_place(&mut e.history, &from, done);
         if !e.spin.is_empty() {
             permute_in_place(&mut e.spin, &from, done);
@@ -473,6 +530,8 @@ impl ContactStore {
         &self.entries.touching
     }
 
+    /// The geometry kept per entry: empty in a world that keeps none, and never written for a
+    /// sphere pair (see [`ContactStore::contact_point`]).
     pub fn geometry(&self) -> &[ContactPoint] {
         &self.entries.geometry
     }
@@ -570,37 +629,60 @@ impl ContactStore {
         lost
     }
 
-    /// The contacts that touch, in store order.
-    pub fn iter(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
+    /// The contact point of touching entry `k`: the one kept, or for a sphere pair (and in a
+    /// world that keeps no geometry, a sphere on a plane) found again from the bodies `at` by the
+    /// narrow phase's own operations, so that between steps it has the bits the contact law used.
+    pub fn contact_point(&self, k: usize, at: Placement) -> ContactPoint {
+        let key = self.entries.key[k];
+        if let Some(g) = self.entries.geometry.get(k) {
+            if self.entries.kind[k] != PairKind::Spheres {
+                return *g;
+            }
+        }
+        let (a, b) = (key.a as usize, at.bodies);
+        match key.partner {
+            Partner::Body(j) => {
+                let j = j as usize;
+                let radius = &b.bounding_radius;
+                narrow_phase::overlapping_spheres(
+                    b.position[a],
+                    radius[a],
+                    b.position[j],
+                    radius[j],
+                )
+            }
+            Partner::Plane(p) => {
+                let plane = &at.planes[p as usize];
+                let radius = at.shapes[b.shape[a] as usize].bounding_radius();
+                narrow_phase::touching_sphere_plane(
+                    b.position[a],
+                    radius,
+                    plane.point,
+                    plane.normal,
+                )
+            }
+            Partner::Mesh(_) => unreachable!("a world with mesh walls keeps their geometry"),
+        }
+    }
+
+    /// The contacts that touch, in store order (see [`Contacts`](super::Contacts)).
+    pub(crate) fn touching_contacts<'a>(
+        &'a self,
+        at: Placement<'a>,
+    ) -> impl Iterator<Item = ContactRef<'a>> + 'a {
         let e = &self.entries;
         (0..e.key.len())
             .filter(|&k| e.touching[k])
             .map(move |k| ContactRef {
                 key: e.key[k],
-                geometry: e.geometry[k].with_volume(self.volume.get(k).copied().flatten()),
+                geometry: self
+                    .contact_point(k, at)
+                    .with_volume(self.volume.get(k).copied().flatten()),
                 history: &e.history[k],
                 spin: e.spin.get(k),
                 load: &self.load[k],
                 report: &self.report[k],
             })
-    }
-
-    /// Contacts between two bodies.
-    pub fn between_bodies(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
-        self.iter()
-            .filter(|c| matches!(c.key.partner, Partner::Body(_)))
-    }
-
-    /// Contacts of bodies with plane walls.
-    pub fn with_planes(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
-        self.iter()
-            .filter(|c| matches!(c.key.partner, Partner::Plane(_)))
-    }
-
-    /// Contacts of bodies with mesh walls.
-    pub fn with_mesh_walls(&self) -> impl Iterator<Item = ContactRef<'_>> + '_ {
-        self.iter()
-            .filter(|c| matches!(c.key.partner, Partner::Mesh(_)))
     }
 
     /// Number of contacts that touch.
@@ -654,6 +736,27 @@ mod tests {
         }
     }
 
+    /// A layout that keeps every entry's geometry (these tests' pairs are not spheres).
+    fn kept(volumes: bool, spins: bool) -> StoreLayout {
+        StoreLayout {
+            geometry: true,
+            volumes,
+            spins,
+        }
+    }
+
+    /// The touching contacts of a store whose entries all keep their geometry.
+    fn touching(store: &ContactStore) -> Vec<ContactRef<'_>> {
+        static BODIES: std::sync::OnceLock<Bodies> = std::sync::OnceLock::new();
+        let bodies = BODIES.get_or_init(Bodies::default);
+        let at = Placement {
+            bodies,
+            shapes: &[],
+            planes: &[],
+        };
+        store.touching_contacts(at).collect()
+    }
+
     fn candidate(a: u32, partner: Partner) -> Candidate {
         Candidate {
             a,
@@ -680,7 +783,7 @@ mod tests {
             candidate(1, Partner::Body(2)),
             candidate(1, Partner::Plane(0)),
         ];
-        store.set_candidates(&first, &numbered(3), false, false);
+        store.set_candidates(&first, &numbered(3), kept(false, false));
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
         store.entries.history[e].tangential_stiffness = 4.0;
@@ -691,7 +794,7 @@ mod tests {
             candidate(1, Partner::Plane(0)),
         ];
         assert_eq!(
-            store.set_candidates(&second, &numbered(3), false, false),
+            store.set_candidates(&second, &numbered(3), kept(false, false)),
             0.0
         );
         let history = |s: &ContactStore, k: usize| s.entries.history[k];
@@ -702,8 +805,7 @@ mod tests {
         let lost = store.set_candidates(
             &[candidate(0, Partner::Body(2))],
             &numbered(3),
-            false,
-            false,
+            kept(false, false),
         );
         assert_eq!(lost, 0.5 * 4.0);
     }
@@ -717,9 +819,9 @@ mod tests {
             candidate(0, Partner::Body(1)),
             candidate(1, Partner::Body(2)),
         ];
-        store.set_candidates(&pairs, &numbered(3), false, false);
-        assert!(store.iter().all(|c| c.spin.is_none()));
-        store.set_candidates(&pairs, &numbered(3), false, true);
+        store.set_candidates(&pairs, &numbered(3), kept(false, false));
+        assert!(touching(&store).into_iter().all(|c| c.spin.is_none()));
+        store.set_candidates(&pairs, &numbered(3), kept(false, true));
         let e = touch(&mut store, 1, Partner::Body(2));
         store.entries.spin[e] = SpinHistory {
             rolling_torque: DVec3::Y,
@@ -727,10 +829,13 @@ mod tests {
             ..SpinHistory::default()
         };
         let more = [pairs[0], candidate(0, Partner::Body(2)), pairs[1]];
-        assert_eq!(store.set_candidates(&more, &numbered(3), false, true), 0.0);
-        let c = store.iter().find(|c| c.key.a == 1).unwrap();
+        assert_eq!(
+            store.set_candidates(&more, &numbered(3), kept(false, true)),
+            0.0
+        );
+        let c = touching(&store).into_iter().find(|c| c.key.a == 1).unwrap();
         assert_eq!(c.spin.unwrap().rolling_torque, DVec3::Y);
-        let lost = store.set_candidates(&more[..2], &numbered(3), false, true);
+        let lost = store.set_candidates(&more[..2], &numbered(3), kept(false, true));
         assert_eq!(lost, 0.5 / 0.25);
     }
 
@@ -779,7 +884,7 @@ mod tests {
                     .filter(|(k, s)| s.1 && !fresh.contains_key(k))
                     .map(|(_, s)| 0.5 * s.2.length_squared() + if spins { s.3.length_squared() } else { 0.0 })
                     .sum();
-                let lost = store.set_candidates(&candidates, &numbered(6), false, spins);
+                let lost = store.set_candidates(&candidates, &numbered(6), kept(false, spins));
                 model = fresh;
                 proptest::prop_assert!((lost - expected_lost).abs() <= 1e-12 * (1.0 + expected_lost));
                 let keys: Vec<ContactKey> = model.keys().copied().collect();
@@ -835,7 +940,7 @@ mod tests {
                 kind: PairKind::Regional,
             },
         ];
-        store.set_candidates(&list, &numbered(3), true, true);
+        store.set_candidates(&list, &numbered(3), kept(true, true));
         assert_eq!(store.entries(), 3 + MAX_REGIONS);
         assert_eq!(store.own(0), 0..2);
         assert_eq!(store.own(1), 2..3 + MAX_REGIONS);
@@ -857,7 +962,7 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(1, Partner::Body(2)),
         ];
-        store.set_candidates(&list, &numbered(3), false, false);
+        store.set_candidates(&list, &numbered(3), kept(false, false));
         let e = touch(&mut store, 0, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
         store.load[e].force = DVec3::Y;
@@ -897,7 +1002,7 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, &numbered(3), true, true);
+        store.set_candidates(&list, &numbered(3), kept(true, true));
         let e = touch(&mut store, 0, Partner::Body(1));
         store.report[e].elastic_energy = 2.0;
         let lost = store.renumber(&[0, u32::MAX, 1], |_| true);

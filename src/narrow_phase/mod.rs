@@ -30,7 +30,7 @@ pub use sphere_mesh::{
     closest_point_on_triangle, is_behind_mesh, sphere_mesh, sphere_mesh_contacts, MeshContact,
     MeshScratch, TriangleRegion,
 };
-pub use sphere_plane::sphere_plane;
+pub use sphere_plane::{sphere_plane, touching_sphere_plane};
 pub use sphere_sphere::{overlapping_spheres, sphere_sphere};
 pub use vertex_penetration::{vertex_penetration, PenetratingPoint, PenetrationSet, PointKind};
 

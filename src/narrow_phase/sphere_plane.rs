@@ -1,4 +1,4 @@
-use super::Geometry;
+use super::{ContactPoint, Geometry};
 use crate::math::DVec3;
 
 /// A sphere against the half-space behind a plane through `point` with unit `normal` (pointing
@@ -10,12 +10,18 @@ pub fn sphere_plane(x: DVec3, r: f64, point: DVec3, normal: DVec3) -> Option<Geo
     if overlap <= 0.0 || height <= -r {
         return None;
     }
-    Some(Geometry {
+    Some(touching_sphere_plane(x, r, point, normal).with_volume(None))
+}
+
+/// The contact of a sphere that touches a plane ([`sphere_plane`] found it), by the same
+/// operations: what the contact store gives when it is read, having kept none.
+pub fn touching_sphere_plane(x: DVec3, r: f64, point: DVec3, normal: DVec3) -> ContactPoint {
+    let overlap = r - (x - point).dot(normal);
+    ContactPoint {
         normal,
         point: x - normal * (r - 0.5 * overlap),
         overlap,
-        volume: None,
-    })
+    }
 }
 
 #[cfg(test)]

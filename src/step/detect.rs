@@ -5,13 +5,13 @@
 
 use crate::body::Bodies;
 use crate::contact::{
-    assign_regions, Assigned, ContactKey, ContactStore, EntryIds, EntryState, PairKind, Partner,
-    MAX_REGIONS,
+    assign_regions, Assigned, ContactKey, ContactStore, EntryState, Partner, MAX_REGIONS,
 };
 use crate::contact_law::PolyhedralLaw;
 use crate::math::Aabb;
 use crate::narrow_phase::{
-    self, ClipScratch, ConvexMeshScratch, Geometry, MeshContact, MeshScratch, Posed, RegionScratch,
+    self, ClipScratch, ContactPoint, ConvexMeshScratch, Geometry, MeshContact, MeshScratch, Posed,
+    RegionScratch,
 };
 use crate::shape::Shape;
 use crate::wall::{MeshWall, Plane};
@@ -88,30 +88,26 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
     store.set_regions(&regions.assigned, scene.bodies)
 }
 
-/// The geometry of the `entries` of a run (indices into it) that are pairs touching in one place
-/// at most (regional entries are left as [`detect_regions`] set them; sphere pairs find their
-/// contact with their law, see `step::spheres`). Contacts that end are booked by the contact laws.
-pub(crate) fn detect_single(scene: Scene, ids: &EntryIds, state: &mut EntryState, entries: &[u32]) {
-    let mut singles = entries
-        .iter()
-        .map(|&k| k as usize)
-        .filter(|&k| ids.kind[k] == PairKind::Single)
-        .peekable();
-    if singles.peek().is_none() {
-        return;
+/// The narrow phase of entry `k`, a pair that touches in one place at most (regional entries are
+/// set by [`detect_regions`]; sphere pairs find their contact with their law, see
+/// `step::spheres`): whether it touches, and its geometry and volume where the store keeps them.
+/// Returns the contact point found. Contacts that end are booked by the contact laws.
+pub(crate) fn detect_single(
+    scene: Scene,
+    key: &ContactKey,
+    k: usize,
+    state: &mut EntryState,
+) -> Option<ContactPoint> {
+    let found = SCRATCH.with_borrow_mut(|s| single(scene, key, &mut s.clip));
+    state.touching[k] = found.is_some();
+    let found = found?;
+    if let Some(g) = state.geometry.get_mut(k) {
+        *g = found.contact_point();
     }
-    SCRATCH.with_borrow_mut(|s| {
-        for k in singles {
-            let found = single(scene, &ids.key[k], &mut s.clip);
-            state.touching[k] = found.is_some();
-            if let Some(found) = found {
-                state.geometry[k] = found.contact_point();
-                if let Some(v) = state.volume.get_mut(k) {
-                    *v = found.volume;
-                }
-            }
-        }
-    });
+    if let Some(v) = state.volume.get_mut(k) {
+        *v = found.volume;
+    }
+    Some(found.contact_point())
 }
 
 /// The contact of a pair that touches in one place at most.

@@ -47,7 +47,6 @@ impl EntryState<'_> {
     pub(crate) fn entry(&mut self, k: usize) -> EntryOut<'_> {
         EntryOut {
             touching: &mut self.touching[k],
-            geometry: &mut self.geometry[k],
             history: &mut self.history[k],
             spin: self.spin.get_mut(k),
             load: &mut self.load[k],
@@ -299,27 +298,36 @@ fn evaluate_sorted(
     for &k in sorted.ended() {
         spheres::apart(state.entry(k as usize));
     }
-    // The other pairs' geometry first (the narrow phase of pairs that touch in one place).
-    detect::detect_single(inputs.scene, ids, state, sorted.other());
     for &k in sorted.other() {
         let (k, key) = (k as usize, ids.key[k as usize]);
+        // The narrow phase of a pair that touches in one place; a regional pair's regions were
+        // found before the loop (a world with regional pairs keeps their geometry).
+        let g = match ids.kind[k] {
+            PairKind::Single => detect::detect_single(inputs.scene, &key, k, state),
+            _ => state.touching[k].then(|| state.geometry[k]),
+        };
         let history = &mut state.history[k];
         let spin = state.spin.get_mut(k);
-        let r = if state.touching[k] {
-            let volume = state.volume.get(k).copied().flatten();
-            let g = &state.geometry[k];
-            let mut none = SpinHistory::default();
-            let spin = spin.unwrap_or(&mut none);
-            inputs.respond(key, ids.kind[k], g, volume, (history, spin), dt)
-        } else {
-            ended(history, spin)
+        let r = match &g {
+            Some(g) => {
+                let volume = state.volume.get(k).copied().flatten();
+                let mut none = SpinHistory::default();
+                let spin = spin.unwrap_or(&mut none);
+                inputs.respond(key, ids.kind[k], g, volume, (history, spin), dt)
+            }
+            None => ended(history, spin),
         };
+        // Apart, the load is zero whatever the point (the last one kept, if any).
+        let point = g
+            .or_else(|| state.geometry.get(k).copied())
+            .unwrap_or_default()
+            .point;
         let centre_b = key
             .partner
             .body()
             .map(|j| inputs.motion[j as usize].position);
         let centre_a = inputs.motion[key.a as usize].position;
-        state.load[k] = Load::new(&r, state.geometry[k].point, centre_a, centre_b);
+        state.load[k] = Load::new(&r, point, centre_a, centre_b);
         state.report[k] = LawReport::of(&r);
     }
 }

@@ -48,16 +48,18 @@ pub fn detect_and_evaluate(
     partial: &mut Vec<f64>,
 ) -> f64 {
     let (ids, state) = store.pass_mut();
-    // A world without polyhedra keeps no volumes, one without rolling friction and polyhedra no
-    // spin histories: each chunk then gets an empty slice.
+    // A world of spheres and planes keeps no geometry, one without polyhedra no volumes, one
+    // without rolling friction and polyhedra no spin histories: each chunk then gets an empty
+    // slice.
     let chunks = ids.key.len().div_ceil(CHUNK);
+    let geometry = side_array_chunks(state.geometry, chunks);
     let volume = side_array_chunks(state.volume, chunks);
     let spin = side_array_chunks(state.spin, chunks);
     ids.key
         .par_chunks(CHUNK)
         .zip(ids.kind.par_chunks(CHUNK))
         .zip(state.touching.par_chunks_mut(CHUNK))
-        .zip(state.geometry.par_chunks_mut(CHUNK))
+        .zip(geometry)
         .zip(volume)
         .zip(state.history.par_chunks_mut(CHUNK))
         .zip(spin)

@@ -20,7 +20,6 @@ use super::spheres;
 use crate::contact::{EntryIds, EntryState, LawReport, Load};
 use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
 use crate::math::DVec3;
-use crate::narrow_phase::ContactPoint;
 
 /// Entries waiting to go through the kernel together.
 #[derive(Default)]
@@ -295,14 +294,10 @@ fn kernel(
     let torque_a = arm_a.cross(force) + V3::zero();
     let torque_b = -(arm_b.cross(force) + V3::zero());
 
-    let (normal, point, xi) = (normal.lanes(), point.lanes(), xi.lanes());
+    let xi = xi.lanes();
     let (damper_force, force) = (damper_force.lanes(), force.lanes());
     let (torque_a, torque_b) = (torque_a.lanes(), torque_b.lanes());
-    let (overlap, kt, damper_estimate) = (
-        overlap.to_array(),
-        kt.to_array(),
-        damper_estimate.to_array(),
-    );
+    let (kt, damper_estimate) = (kt.to_array(), damper_estimate.to_array());
     let (total, elastic_energy, dissipated) = (
         total.to_array(),
         elastic_energy.to_array(),
@@ -310,11 +305,6 @@ fn kernel(
     );
     for (i, &k) in entries.iter().enumerate() {
         state.touching[k] = true;
-        state.geometry[k] = ContactPoint {
-            normal: normal[i],
-            point: point[i],
-            overlap: overlap[i],
-        };
         state.history[k] = History {
             tangential_spring: xi[i],
             tangential_stiffness: kt[i],
@@ -410,7 +400,7 @@ mod tests {
 
     proptest! {
         /// The four-wide kernel gives each lane exactly what the scalar path gives that pair:
-        /// geometry, load, report and history, to the bit, for both normal laws, lanes of mixed
+        /// load, report and history, to the bit, for both normal laws, lanes of mixed
         /// materials, with and without friction, sticking and sliding.
         #[test]
         fn four_lanes_are_the_scalar_path_to_the_bit(
@@ -466,13 +456,13 @@ mod tests {
             let ids = EntryIds { key: &key, kind: &kind };
             // Both paths, each on its own copy of the store's four entries.
             let run = |four_wide: bool| {
-                let (mut touching, mut geometry) = ([false; 4], [ContactPoint::default(); 4]);
+                let mut touching = [false; 4];
                 let mut history: [History; 4] = std::array::from_fn(|p| start[p]);
                 let (mut load, mut report) = ([Load::default(); 4], [LawReport::default(); 4]);
                 let mut spin: [SpinHistory; 0] = [];
                 let mut state = EntryState {
                     touching: &mut touching,
-                    geometry: &mut geometry,
+                    geometry: &mut [],
                     volume: &mut [],
                     history: &mut history,
                     spin: &mut spin,
@@ -500,7 +490,7 @@ mod tests {
                     }
                 }
                 // Debug prints the shortest string that reads back to the same bits.
-                format!("{touching:?} {geometry:?} {history:?} {load:?} {report:?}")
+                format!("{touching:?} {history:?} {load:?} {report:?}")
             };
             prop_assert_eq!(run(true), run(false));
         }

@@ -9,12 +9,11 @@
 use super::forces::{ended, kinematics, LawInputs};
 use crate::contact::{ContactKey, LawReport, Load};
 use crate::contact_law::{self, History, PairLaw, SpinHistory};
-use crate::narrow_phase::{self, ContactPoint};
+use crate::narrow_phase;
 
 /// What the step writes of one entry.
 pub(crate) struct EntryOut<'a> {
     pub touching: &'a mut bool,
-    pub geometry: &'a mut ContactPoint,
     pub history: &'a mut History,
     /// In worlds with rolling friction (see `contact_law::SpinHistory`).
     pub spin: Option<&'a mut SpinHistory>,
@@ -121,7 +120,6 @@ pub(crate) fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, 
     *out.load = Load::new(&r, g.point, ma.position, Some(mb.position));
     *out.report = LawReport::of(&r);
     *out.touching = true;
-    *out.geometry = g;
 }
 
 #[cfg(test)]
@@ -181,7 +179,7 @@ mod tests {
     }
 
     proptest! {
-        /// The fused path gives the general path's geometry, response and history to the bit,
+        /// The fused path gives the general path's response and history to the bit,
         /// for both normal laws, with and without friction and rolling friction, from random
         /// histories (including ones that hit the Coulomb limit) and for pairs that do not touch.
         #[test]
@@ -238,12 +236,11 @@ mod tests {
                 ..SpinHistory::default()
             };
 
-            let (mut touching, mut geometry) = (false, ContactPoint::default());
+            let mut touching = false;
             let (mut history, mut spin) = (start, start_spin);
             let (mut load, mut report) = (Load::default(), LawReport::default());
             let out = EntryOut {
                 touching: &mut touching,
-                geometry: &mut geometry,
                 history: &mut history,
                 spin: Some(&mut spin),
                 load: &mut load,
@@ -265,9 +262,6 @@ mod tests {
                 None => ended(&mut general_history, Some(&mut general_spin)),
             };
             prop_assert_eq!(touching, found.is_some());
-            if let Some(g) = found {
-                prop_assert_eq!(geometry, g.contact_point());
-            }
             // Debug prints the shortest string that reads back to the same bits (and tells -0 from 0).
             let general_load = match found {
                 Some(g) => Load::new(&general, g.point, positions[0], Some(positions[1])),

@@ -1,9 +1,9 @@
 //! What the contacts do to the walls: the impulse and angular impulse each wall takes, and the work
 //! moving walls do on the bodies (the energy they bring in).
 
-use crate::body::Bodies;
-use crate::contact::{ContactStore, Partner};
+use crate::contact::{ContactStore, Partner, Placement};
 use crate::math::DVec3;
+use crate::narrow_phase::ContactPoint;
 use crate::step::prefetch::prefetch;
 use crate::wall::{MeshWall, Plane, WallState};
 
@@ -38,7 +38,10 @@ impl WallLoads {
     /// Books the contacts' reactions on the walls over the step `dt` (0 for a fresh evaluation,
     /// which only sets the power the next step's work starts from). `wall_time` is when the mesh
     /// walls are where they are. A ghost's contacts are left to its owner (`Bodies::ghost`).
-    pub fn book(&mut self, store: &ContactStore, bodies: &Bodies, walls: WallsNow, dt: f64) {
+    /// `at`: where the bodies are, which the contact points the store does not keep are found
+    /// again from.
+    pub fn book(&mut self, store: &ContactStore, at: Placement, walls: WallsNow, dt: f64) {
+        let bodies = at.bodies;
         let WallsNow {
             planes,
             meshes: walls,
@@ -49,7 +52,7 @@ impl WallLoads {
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
         let (keys, touching) = (store.keys(), store.touching());
-        let (geometry, load) = (store.geometry(), store.loads());
+        let load = store.loads();
         let mut power = 0.0;
         let entries = store.wall_entries();
         for (n, &e) in entries.iter().enumerate() {
@@ -60,7 +63,6 @@ impl WallLoads {
                 let ahead = ahead as usize;
                 prefetch(&touching[ahead]);
                 prefetch(&keys[ahead]);
-                prefetch(&geometry[ahead]);
                 prefetch(&load[ahead]);
             }
             let e = e as usize;
@@ -69,7 +71,11 @@ impl WallLoads {
             }
             // For a wall partner the load's second moment is the law's couple on the body.
             let (f, torque) = (load[e].force, load[e].torque_b);
-            let (p, n) = (geometry[e].point, geometry[e].normal);
+            let ContactPoint {
+                point: p,
+                normal: n,
+                ..
+            } = store.contact_point(e, at);
             let (w, centre) = match keys[e].partner {
                 Partner::Plane(k) => (k as usize, planes[k as usize].point),
                 Partner::Mesh(m) => {

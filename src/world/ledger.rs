@@ -31,7 +31,7 @@ impl World {
     pub(super) fn dashpot_loads(&self) -> Vec<(DVec3, DVec3)> {
         let b = &self.bodies;
         let mut loads = vec![(DVec3::ZERO, DVec3::ZERO); b.len()];
-        for c in self.contacts.iter() {
+        for c in self.contacts().iter() {
             let force = 2.0 * c.history.damper_force.as_dvec3();
             let a = c.key.a as usize;
             loads[a].0 += force;

@@ -3,7 +3,7 @@
 
 use super::World;
 use crate::body::Bodies;
-use crate::contact::ContactStore;
+use crate::contact::{Contacts, Placement};
 use crate::contact_law::PolyhedralLaw;
 use crate::flow::FlowMeter;
 use crate::material::{Material, PairTable};
@@ -93,8 +93,18 @@ impl World {
     }
 
     /// Every contact of the world (bodies with bodies, planes and mesh walls) and its history.
-    pub fn contacts(&self) -> &ContactStore {
-        &self.contacts
+    pub fn contacts(&self) -> Contacts<'_> {
+        Contacts::new(&self.contacts, self.placement())
+    }
+
+    /// Where the bodies and planes are, which a contact's geometry that the store does not keep
+    /// is found again from.
+    pub(crate) fn placement(&self) -> Placement<'_> {
+        Placement {
+            bodies: &self.bodies,
+            shapes: &self.shapes,
+            planes: &self.planes,
+        }
     }
 
     /// Impulses on the walls since the start and the work of moving walls.

@@ -70,7 +70,9 @@ impl ContactStore {
                     },
                     region: key.region,
                     touching: self.entries.touching[e],
-                    geometry: self.entries.geometry[e],
+                    // None kept for a sphere pair, nor in a world of spheres and planes: the
+                    // receiving share finds it again from the bodies.
+                    geometry: self.entries.geometry.get(e).copied().unwrap_or_default(),
                     history: self.entries.history[e],
                     spin: self.entries.spin.get(e).copied(),
                     volume: self.volume.get(e).copied().flatten(),
@@ -119,7 +121,9 @@ impl ContactStore {
     /// Entry `e` touching nothing, with no history and no load.
     fn clear_entry(&mut self, e: usize) {
         self.entries.touching[e] = false;
-        self.entries.geometry[e] = ContactPoint::default();
+        if let Some(g) = self.entries.geometry.get_mut(e) {
+            *g = ContactPoint::default();
+        }
         self.entries.history[e] = History::default();
         if let Some(spin) = self.entries.spin.get_mut(e) {
             *spin = SpinHistory::default();
@@ -161,7 +165,9 @@ impl ContactStore {
             return Ok(());
         };
         self.entries.touching[e] = r.touching;
-        self.entries.geometry[e] = r.geometry;
+        if let Some(g) = self.entries.geometry.get_mut(e) {
+            *g = r.geometry;
+        }
         self.entries.history[e] = r.history;
         if let (Some(spin), Some(r)) = (self.entries.spin.get_mut(e), r.spin) {
             *spin = r;

@@ -1,0 +1,158 @@
+//! The contact store keeps no geometry for sphere pairs, and none at all in a world of spheres and
+//! planes (`contact::StoreLayout`): what `World::contacts()` gives is found again from the bodies.
+//! It must be what the narrow phase finds, to the bit, and a world that keeps every other
+//! contact's geometry (here because it has a mesh wall far from the bodies) must run the same
+//! bits and report the same contacts.
+
+use polydem::body::BodyInit;
+use polydem::contact::{ContactRef, Partner};
+use polydem::contact_law::NormalLaw;
+use polydem::material::{Material, PairTable};
+use polydem::math::{DQuat, DVec3};
+use polydem::narrow_phase::{sphere_plane, sphere_sphere};
+use polydem::shape::{Shape, Sphere};
+use polydem::wall::{generators, Plane};
+use polydem::{World, WorldConfig};
+
+/// 125 spheres of 1 mm radius thrown into an open box of planes: contacts with each other and
+/// with the floor and the side walls after 4,000 steps. With `far_wall`, a mesh wall 1 m above
+/// them that none reaches.
+fn pour(far_wall: bool) -> World {
+    let material = Material {
+        name: "grain".into(),
+        density: 2500.0,
+        youngs_modulus: 1e7,
+        poisson_ratio: 0.25,
+        restitution: 0.5,
+        friction: 0.5,
+        rolling_friction: 0.0,
+    };
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        NormalLaw::Hertz,
+        2.0 / 7.0,
+        &[],
+    );
+    let (spacing, n) = (2.2e-3, 5usize);
+    let width = spacing * n as f64 + 1e-3;
+    let wall = |point: DVec3, normal: DVec3| Plane {
+        point,
+        normal,
+        material: 0,
+    };
+    let planes = vec![
+        wall(DVec3::ZERO, DVec3::Z),
+        wall(DVec3::ZERO, DVec3::X),
+        wall(DVec3::new(width, 0.0, 0.0), -DVec3::X),
+        wall(DVec3::ZERO, DVec3::Y),
+        wall(DVec3::new(0.0, width, 0.0), -DVec3::Y),
+    ];
+    let mut w = World::new(WorldConfig {
+        time_step: 1e-5,
+        gravity: DVec3::new(0.0, 0.0, -9.81),
+        materials: vec![material],
+        pair_laws: laws,
+        planes,
+        broad_phase: Default::default(),
+        skin: None,
+        threads: 1,
+    })
+    .unwrap();
+    if far_wall {
+        let ceiling = generators::rectangle(
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.0, width, 0.0),
+            DVec3::new(width, 0.0, 0.0),
+            2,
+            2,
+        )
+        .unwrap()
+        .into_wall(0)
+        .unwrap();
+        w = w.with_mesh_walls(vec![ceiling]);
+    }
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut random = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for k in 0..n * n * n {
+        let (i, j, l) = (k % n, k / n % n, k / (n * n));
+        w.add_body(BodyInit {
+            shape: Shape::Sphere(Sphere { radius: 1e-3 }),
+            material: 0,
+            position: DVec3::new(i as f64, j as f64, l as f64) * spacing
+                + DVec3::splat(1.5e-3)
+                + DVec3::new(random(), random(), random()) * 2e-4,
+            orientation: DQuat::IDENTITY,
+            velocity: DVec3::new(random(), random(), -1.0) * 0.3,
+            angular_velocity: DVec3::new(random(), random(), random()) * 100.0,
+        });
+    }
+    for _ in 0..4000 {
+        w.step();
+    }
+    w
+}
+
+/// Each contact as text: key, geometry, load and report (Debug prints the bits).
+fn described(w: &World) -> Vec<String> {
+    w.contacts()
+        .iter()
+        .map(|c: ContactRef| format!("{:?} {:?} {:?} {:?}", c.key, c.geometry, c.load, c.report))
+        .collect()
+}
+
+#[test]
+fn sphere_contacts_read_the_narrow_phase_geometry_found_again_from_the_bodies() {
+    let w = pour(false);
+    assert!(
+        w.contacts().store().geometry().is_empty(),
+        "a world of spheres and planes keeps no contact geometry"
+    );
+    let (b, planes) = (w.bodies(), w.planes());
+    let (mut pairs, mut walls) = (0, 0);
+    for c in w.contacts().iter() {
+        let a = c.key.a as usize;
+        let found = match c.key.partner {
+            Partner::Body(j) => {
+                pairs += 1;
+                let j = j as usize;
+                sphere_sphere(b.position[a], 1e-3, b.position[j], 1e-3)
+            }
+            Partner::Plane(p) => {
+                walls += 1;
+                let plane = &planes[p as usize];
+                sphere_plane(b.position[a], 1e-3, plane.point, plane.normal)
+            }
+            Partner::Mesh(_) => unreachable!("no mesh walls here"),
+        };
+        let found = found.expect("a touching contact that the narrow phase finds");
+        assert_eq!(c.geometry, found, "{:?}", c.key);
+        assert!(c.geometry.overlap > 0.0 && c.report.normal_force >= 0.0);
+    }
+    assert!(
+        pairs > 100 && walls > 20,
+        "{pairs} sphere pairs, {walls} on walls"
+    );
+}
+
+#[test]
+fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
+    let (lean, kept) = (pour(false), pour(true));
+    assert!(lean.contacts().store().geometry().is_empty());
+    assert_eq!(
+        kept.contacts().store().geometry().len(),
+        kept.contacts().entries(),
+        "a world with a mesh wall keeps one geometry per entry"
+    );
+    let state = |w: &World| {
+        let b = w.bodies();
+        format!("{:?}", (&b.position, &b.velocity, &b.angular_momentum))
+    };
+    assert_eq!(state(&lean), state(&kept));
+    assert_eq!(described(&lean), described(&kept));
+    assert!(described(&lean).len() > 150);
+}
