@@ -21,7 +21,29 @@ pub struct BodyMotion {
     pub radius: f64,
 }
 
+// The layout `BodyMotion::as_rows` reads: sixteen `f64` in the order of the fields, no padding.
+const _: () = {
+    use std::mem::{offset_of, size_of};
+    assert!(size_of::<BodyMotion>() == 128 && size_of::<DVec3>() == 24);
+    assert!(offset_of!(BodyMotion, position) == 0 && offset_of!(BodyMotion, velocity) == 24);
+    assert!(offset_of!(BodyMotion, angular_velocity) == 48);
+    assert!(offset_of!(BodyMotion, velocity_end) == 72);
+    assert!(offset_of!(BodyMotion, angular_velocity_end) == 96);
+    assert!(offset_of!(BodyMotion, radius) == 120);
+};
+
 impl BodyMotion {
+    /// The sixteen numbers in memory order (position, velocity, angular velocity, the same two
+    /// at the end of the step, radius) as four rows of four: what the four-wide sphere kernel
+    /// loads whole and transposes into lanes (`step::sphere_lanes`).
+    #[inline(always)]
+    pub fn as_rows(&self) -> &[[f64; 4]; 4] {
+        // SAFETY: `BodyMotion` is `repr(C)`, sixteen `f64` with no padding (asserted above; glam's
+        // `DVec3` is three `repr(C)` `f64`), and `[[f64; 4]; 4]` has its size and a weaker
+        // alignment.
+        unsafe { &*(self as *const BodyMotion).cast::<[[f64; 4]; 4]>() }
+    }
+
     /// The motion of a body at `position` with half-step velocities `velocity` and
     /// `angular_velocity`, and those at the end of the step predicted from the last forces, which
     /// the closing half kick will add again to first order: v_{n+1} ≈ v_{n+½} + (F_n/m + g) h and

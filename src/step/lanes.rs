@@ -183,6 +183,37 @@ impl F4 {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl F4 {
+    /// The columns of four rows of four numbers: lane `i` of column `k` is `rows[i][k]` (four
+    /// loads and eight shuffles, where gathering lane by lane takes sixteen loads).
+    #[inline(always)]
+    pub fn transpose(rows: [&[f64; 4]; 4]) -> [F4; 4] {
+        // SAFETY: each row has four numbers to load; unaligned loads have no other demand.
+        unsafe {
+            let [r0, r1, r2, r3] = rows.map(|r| _mm256_loadu_pd(r.as_ptr()));
+            // (r0₀ r1₀ r0₂ r1₂), (r0₁ r1₁ r0₃ r1₃), and the same of r2 and r3.
+            let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
+            let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
+            [
+                F4(_mm256_permute2f128_pd(t0, t2, 0x20)),
+                F4(_mm256_permute2f128_pd(t1, t3, 0x20)),
+                F4(_mm256_permute2f128_pd(t0, t2, 0x31)),
+                F4(_mm256_permute2f128_pd(t1, t3, 0x31)),
+            ]
+        }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl F4 {
+    /// The columns of four rows of four numbers: lane `i` of column `k` is `rows[i][k]`.
+    #[inline(always)]
+    pub fn transpose(rows: [&[f64; 4]; 4]) -> [F4; 4] {
+        std::array::from_fn(|k| F4::new(std::array::from_fn(|i| rows[i][k])))
+    }
+}
+
 impl F4 {
     /// Lane `i`.
     #[inline(always)]
@@ -453,6 +484,22 @@ mod tests {
                 let expected = if a[i] <= b[i] { a[i] } else { b[i] };
                 prop_assert!(same(chosen, expected));
                 prop_assert!(same((-x).lane(i), -a[i]));
+            }
+        }
+    }
+
+    proptest! {
+        /// Lane `i` of column `k` is row `i`'s number `k`, bit for bit (NaNs, signed zeros).
+        #[test]
+        fn transpose_puts_row_i_in_lane_i(rows in prop::array::uniform4(prop::array::uniform4(special()))) {
+            if !has_lanes() {
+                return Ok(());
+            }
+            let columns = F4::transpose(std::array::from_fn(|i| &rows[i]));
+            for (k, column) in columns.iter().enumerate() {
+                for (i, row) in rows.iter().enumerate() {
+                    prop_assert_eq!(column.lane(i).to_bits(), row[k].to_bits());
+                }
             }
         }
     }

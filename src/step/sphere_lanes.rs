@@ -19,6 +19,7 @@ use super::lanes::{F4, M4, V3};
 use super::spheres;
 use crate::contact::{EntryIds, EntryState, LawReport, Load};
 use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
+use crate::integrate::BodyMotion;
 use crate::math::DVec3;
 
 /// Entries waiting to go through the kernel together.
@@ -140,6 +141,52 @@ impl Laws {
     }
 }
 
+/// The packed motion of four bodies, lane by lane: each body's two cache lines loaded whole and
+/// transposed (the numbers themselves, so the same bits as gathering them one by one).
+struct MotionLanes {
+    position: V3,
+    velocity: V3,
+    angular_velocity: V3,
+    velocity_end: V3,
+    angular_velocity_end: V3,
+    radius: F4,
+}
+
+impl MotionLanes {
+    #[inline(always)]
+    fn gather(motion: [&BodyMotion; 4]) -> Self {
+        let columns = |row: usize| F4::transpose(motion.map(|m| &m.as_rows()[row]));
+        let [x, y, z, vx] = columns(0);
+        let [vy, vz, wx, wy] = columns(1);
+        let [wz, ex, ey, ez] = columns(2);
+        let [fx, fy, fz, radius] = columns(3);
+        MotionLanes {
+            position: V3 { x, y, z },
+            velocity: V3 {
+                x: vx,
+                y: vy,
+                z: vz,
+            },
+            angular_velocity: V3 {
+                x: wx,
+                y: wy,
+                z: wz,
+            },
+            velocity_end: V3 {
+                x: ex,
+                y: ey,
+                z: ez,
+            },
+            angular_velocity_end: V3 {
+                x: fx,
+                y: fy,
+                z: fz,
+            },
+            radius,
+        }
+    }
+}
+
 /// As `tangential::rotate_into_plane`, lane by lane.
 #[inline(always)]
 fn rotate_into_plane(v: V3, n: V3) -> V3 {
@@ -163,11 +210,11 @@ fn kernel(
     let bodies = inputs.scene.bodies;
     let pair: [(usize, usize); 4] = std::array::from_fn(|i| spheres::bodies(ids.key[entries[i]]));
     let (motion, mass) = (inputs.motion, &bodies.mass);
-    let a = |i: usize| &motion[pair[i].0];
-    let b = |i: usize| &motion[pair[i].1];
+    let a = MotionLanes::gather(std::array::from_fn(|i| &motion[pair[i].0]));
+    let b = MotionLanes::gather(std::array::from_fn(|i| &motion[pair[i].1]));
     let scalars = |f: &dyn Fn(usize) -> f64| F4::new(std::array::from_fn(f));
-    let (xa, xb) = (V3::gather(|i| a(i).position), V3::gather(|i| b(i).position));
-    let (ra, rb) = (scalars(&|i| a(i).radius), scalars(&|i| b(i).radius));
+    let (xa, xb) = (a.position, b.position);
+    let (ra, rb) = (a.radius, b.radius);
     let law = Laws::gather(std::array::from_fn(|i| {
         let (p, q) = pair[i];
         inputs.laws.get(bodies.material[p], bodies.material[q])
@@ -191,12 +238,10 @@ fn kernel(
 
     // The contact points' velocities over the step and at its end (spheres::touching_pair).
     let (arm_a, arm_b) = (point - xa, point - xb);
-    let va = V3::gather(|i| a(i).velocity) + V3::gather(|i| a(i).angular_velocity).cross(arm_a);
-    let va_end =
-        V3::gather(|i| a(i).velocity_end) + V3::gather(|i| a(i).angular_velocity_end).cross(arm_a);
-    let vb = V3::gather(|i| b(i).velocity) + V3::gather(|i| b(i).angular_velocity).cross(arm_b);
-    let vb_end =
-        V3::gather(|i| b(i).velocity_end) + V3::gather(|i| b(i).angular_velocity_end).cross(arm_b);
+    let va = a.velocity + a.angular_velocity.cross(arm_a);
+    let va_end = a.velocity_end + a.angular_velocity_end.cross(arm_a);
+    let vb = b.velocity + b.angular_velocity.cross(arm_b);
+    let vb_end = b.velocity_end + b.angular_velocity_end.cross(arm_b);
     // R* and m* with one division (spheres::effective_radius_and_mass).
     let (mass_a, mass_b) = (scalars(&|i| mass[pair[i].0]), scalars(&|i| mass[pair[i].1]));
     let (radius_sum, mass_sum) = (ra + rb, mass_a + mass_b);
