@@ -4,15 +4,17 @@
 //! contact's geometry (here because it has a mesh wall far from the bodies) must run the same
 //! bits and report the same contacts.
 
+mod common;
+
 use polydem::body::BodyInit;
 use polydem::contact::{ContactRef, Partner};
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::narrow_phase::{sphere_plane, sphere_sphere};
+use polydem::rng::SplitMix64;
 use polydem::shape::{Shape, Sphere};
-use polydem::wall::{generators, Plane};
-use polydem::{World, WorldConfig};
+use polydem::wall::generators;
+use polydem::World;
 
 /// 125 spheres of 1 mm radius thrown into an open box of planes: contacts with each other and
 /// with the floor and the side walls after 4,000 steps. With `far_wall`, a mesh wall 1 m above
@@ -27,37 +29,9 @@ fn pour(far_wall: bool) -> World {
         friction: 0.5,
         rolling_friction: 0.0,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
     let (spacing, n) = (2.2e-3, 5usize);
     let width = spacing * n as f64 + 1e-3;
-    let wall = |point: DVec3, normal: DVec3| Plane {
-        point,
-        normal,
-        material: 0,
-    };
-    let planes = vec![
-        wall(DVec3::ZERO, DVec3::Z),
-        wall(DVec3::ZERO, DVec3::X),
-        wall(DVec3::new(width, 0.0, 0.0), -DVec3::X),
-        wall(DVec3::ZERO, DVec3::Y),
-        wall(DVec3::new(0.0, width, 0.0), -DVec3::Y),
-    ];
-    let mut w = World::new(WorldConfig {
-        time_step: 1e-5,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
+    let mut w = common::open_box_world(material, width, 1e-5, Default::default(), 1);
     if far_wall {
         let ceiling = generators::rectangle(
             DVec3::new(0.0, 0.0, 1.0),
@@ -71,24 +45,27 @@ fn pour(far_wall: bool) -> World {
         .unwrap();
         w = w.with_mesh_walls(vec![ceiling]);
     }
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut random = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    let mut rng = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+    let mut random = || {
+        DVec3::new(
+            rng.uniform(-0.5, 0.5),
+            rng.uniform(-0.5, 0.5),
+            rng.uniform(-0.5, 0.5),
+        )
     };
     for k in 0..n * n * n {
         let (i, j, l) = (k % n, k / n % n, k / (n * n));
+        let jitter = random() * 2e-4;
+        let velocity = (random() - DVec3::new(0.0, 0.0, 1.5)) * 0.3;
         w.add_body(BodyInit {
             shape: Shape::Sphere(Sphere { radius: 1e-3 }),
             material: 0,
             position: DVec3::new(i as f64, j as f64, l as f64) * spacing
                 + DVec3::splat(1.5e-3)
-                + DVec3::new(random(), random(), random()) * 2e-4,
+                + jitter,
             orientation: DQuat::IDENTITY,
-            velocity: DVec3::new(random(), random(), -1.0) * 0.3,
-            angular_velocity: DVec3::new(random(), random(), random()) * 100.0,
+            velocity,
+            angular_velocity: random() * 100.0,
         });
     }
     for _ in 0..4000 {

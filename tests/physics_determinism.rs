@@ -5,13 +5,13 @@
 //! `ContactList`), so no floating-point sum depends on how work is split among threads; this test
 //! checks that promise on a dense, frictional, dissipative granular flow with many contacts.
 
+mod common;
+
 use polydem::body::BodyInit;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
-use polydem::wall::Plane;
-use polydem::{World, WorldConfig};
+use polydem::World;
 
 /// xorshift64*: a fixed pseudo-random sequence in [0, 1).
 struct Rng(u64);
@@ -43,37 +43,8 @@ fn scene_with(threads: usize, broad_phase: polydem::broad_phase::Method) -> Worl
         friction: 0.5,
         rolling_friction: 0.1,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
     let (spacing, n) = (0.011, 7);
-    let width = spacing * n as f64;
-    let wall = |point: DVec3, normal: DVec3| Plane {
-        point,
-        normal,
-        material: 0,
-    };
-    let planes = vec![
-        wall(DVec3::ZERO, DVec3::Z),
-        wall(DVec3::ZERO, DVec3::X),
-        wall(DVec3::new(width, 0.0, 0.0), -DVec3::X),
-        wall(DVec3::ZERO, DVec3::Y),
-        wall(DVec3::new(0.0, width, 0.0), -DVec3::Y),
-    ];
-    let mut w = World::new(WorldConfig {
-        time_step: 2e-5,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase,
-        skin: None,
-        threads,
-    })
-    .unwrap();
+    let mut w = common::open_box_world(material, spacing * n as f64, 2e-5, broad_phase, threads);
     let mut rng = Rng(0x0123_4567_89ab_cdef);
     for k in 0..n {
         for j in 0..n {

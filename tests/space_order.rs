@@ -3,14 +3,14 @@
 //! even the bits of the steps that follow, and runs that sort stay bit-identical for any thread
 //! count.
 
+mod common;
+
 use polydem::body::BodyInit;
 use polydem::contact::Partner;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
-use polydem::wall::Plane;
-use polydem::{World, WorldConfig};
+use polydem::World;
 use std::collections::HashMap;
 
 /// 2,197 spheres (13³, above the size at which the world sorts by itself) of 1 mm radius on a
@@ -26,37 +26,9 @@ fn scene(threads: usize) -> World {
         friction: 0.5,
         rolling_friction: 0.1,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
     let (spacing, n) = (2.05e-3, 13usize);
     let width = spacing * n as f64 + 1e-3;
-    let wall = |point: DVec3, normal: DVec3| Plane {
-        point,
-        normal,
-        material: 0,
-    };
-    let planes = vec![
-        wall(DVec3::ZERO, DVec3::Z),
-        wall(DVec3::ZERO, DVec3::X),
-        wall(DVec3::new(width, 0.0, 0.0), -DVec3::X),
-        wall(DVec3::ZERO, DVec3::Y),
-        wall(DVec3::new(0.0, width, 0.0), -DVec3::Y),
-    ];
-    let mut w = World::new(WorldConfig {
-        time_step: 1e-5,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads,
-    })
-    .unwrap();
+    let mut w = common::open_box_world(material, width, 1e-5, Default::default(), threads);
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut random = move || {
         state ^= state << 13;

@@ -61,6 +61,47 @@ pub enum Floor {
     Mesh(usize),
 }
 
+/// A world under gravity −9.81 z with one material (Hertz, k_t/k_n = 2/7) and an open box of
+/// planes of that material: the floor z = 0 and four side walls around [0, width]², facing in;
+/// no bodies yet.
+pub fn open_box_world(
+    material: Material,
+    width: f64,
+    time_step: f64,
+    broad_phase: polydem::broad_phase::Method,
+    threads: usize,
+) -> World {
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        NormalLaw::Hertz,
+        2.0 / 7.0,
+        &[],
+    );
+    let wall = |point: DVec3, normal: DVec3| Plane {
+        point,
+        normal,
+        material: 0,
+    };
+    let planes = vec![
+        wall(DVec3::ZERO, DVec3::Z),
+        wall(DVec3::ZERO, DVec3::X),
+        wall(DVec3::new(width, 0.0, 0.0), -DVec3::X),
+        wall(DVec3::ZERO, DVec3::Y),
+        wall(DVec3::new(0.0, width, 0.0), -DVec3::Y),
+    ];
+    World::new(WorldConfig {
+        time_step,
+        gravity: DVec3::new(0.0, 0.0, -9.81),
+        materials: vec![material],
+        pair_laws: laws,
+        planes,
+        broad_phase,
+        skin: None,
+        threads,
+    })
+    .unwrap()
+}
+
 /// A one-thread world under gravity −9.81 z with one material (Hertz, k_t/k_n = 2/7) and the
 /// floor, made of that material; no bodies yet.
 pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World {
