@@ -87,6 +87,26 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
             for k in 0..x.len() {
                 let i = first + k;
                 let (f, t, inv_i) = (force[i], torque[i], inv_inertia[i]);
+                if rotation::is_isotropic(inv_i) {
+                    // A sphere (or a cube, a regular polyhedron): the general path below, with
+                    // the steps its isotropic branches take and nothing else; ω = L/I is the
+                    // same before and after the drift.
+                    let acceleration = f * inv_mass[i] + gravity;
+                    v[k] += acceleration * h;
+                    l[k] += t * h;
+                    w[k] = l[k] * inv_i.x;
+                    x[k] += v[k] * dt;
+                    q[k] = rotation::drift_isotropic(q[k], l[k], inv_i, dt);
+                    m[k] = BodyMotion {
+                        position: x[k],
+                        velocity: v[k],
+                        angular_velocity: w[k],
+                        velocity_end: v[k] + acceleration * h,
+                        angular_velocity_end: (l[k] + t * h) * inv_i.x,
+                        radius: bounding_radius[i],
+                    };
+                    continue;
+                }
                 let body = KickedBody {
                     velocity: &mut v[k],
                     angular_momentum: &mut l[k],

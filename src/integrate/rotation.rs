@@ -137,8 +137,8 @@ pub fn drift_order4(q: DQuat, l_world: DVec3, inv_inertia: DVec3, dt: f64) -> DQ
 
 /// Exact drift for I1 = I2 = I3: ω = L/I is constant in the world frame, so
 /// q(t+dt) = exp(ω dt / 2) q(t) (world-frame rotation acts from the left).
-#[inline]
-fn drift_isotropic(q: DQuat, l_world: DVec3, inv_inertia: DVec3, dt: f64) -> DQuat {
+#[inline(always)]
+pub(crate) fn drift_isotropic(q: DQuat, l_world: DVec3, inv_inertia: DVec3, dt: f64) -> DQuat {
     // Mean of the (equal) inverse moments, so tiny differences below the
     // tolerance do not bias one axis.
     let inv_i = (inv_inertia.x + inv_inertia.y + inv_inertia.z) / 3.0;
