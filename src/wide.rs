@@ -10,6 +10,10 @@
 //! Only a function marked `#[target_feature]` and what is inlined into it by `#[inline(always)]`
 //! get the wider registers: a closure called from such a function stays a function of its own,
 //! compiled for the baseline (tried for the per-body loops, it changed nothing).
+//!
+//! [`lanes`] has the four-wide value types those paths compute with.
+
+pub mod lanes;
 
 /// Whether the CPU has AVX-512VL (and the kernel's wide copy is used).
 #[inline(always)]

@@ -11,9 +11,11 @@
 //! the closing half kick ([`Kick::apply`]) runs in the pass that sums each body's contact forces
 //! (`step::accumulate`), while they are in registers.
 
+mod isotropic;
 pub mod motion;
 pub mod rotation;
 
+use isotropic::Arrays;
 pub use motion::BodyMotion;
 
 use crate::body::Bodies;
@@ -56,8 +58,10 @@ impl Kick {
 /// the contact loops read, with the velocities at the end of the step predicted from the same
 /// forces (see [`BodyMotion::predict`]).
 pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec<BodyMotion>) {
-    let h = 0.5 * dt;
-    let kick = Kick { gravity, h };
+    let kick = Kick {
+        gravity,
+        h: 0.5 * dt,
+    };
     motion.resize(bodies.len(), BodyMotion::default());
     let Bodies {
         position,
@@ -83,52 +87,124 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
         .zip(motion.par_chunks_mut(BODIES_PER_TASK))
         .enumerate()
         .for_each(|(c, (((((x, v), q), l), w), m))| {
-            let first = c * BODIES_PER_TASK;
-            for k in 0..x.len() {
-                let i = first + k;
-                let (f, t, inv_i) = (force[i], torque[i], inv_inertia[i]);
-                if rotation::is_isotropic(inv_i) {
-                    // A sphere (or a cube, a regular polyhedron): the general path below, with
-                    // the steps its isotropic branches take and nothing else; ω = L/I is the
-                    // same before and after the drift.
-                    let acceleration = f * inv_mass[i] + gravity;
-                    v[k] += acceleration * h;
-                    l[k] += t * h;
-                    w[k] = l[k] * inv_i.x;
-                    x[k] += v[k] * dt;
-                    q[k] = rotation::drift_isotropic(q[k], l[k], inv_i, dt);
-                    m[k] = BodyMotion {
-                        position: x[k],
-                        velocity: v[k],
-                        angular_velocity: w[k],
-                        velocity_end: v[k] + acceleration * h,
-                        angular_velocity_end: (l[k] + t * h) * inv_i.x,
-                        radius: bounding_radius[i],
-                    };
-                    continue;
-                }
-                let body = KickedBody {
-                    velocity: &mut v[k],
-                    angular_momentum: &mut l[k],
-                    angular_velocity: &mut w[k],
-                    orientation: q[k],
-                    inv_mass: inv_mass[i],
-                    inv_inertia: inv_i,
-                };
-                kick.apply(body, f, t);
-                x[k] += v[k] * dt;
-                q[k] = rotation::drift(q[k], l[k], inv_i, dt);
-                // The body frame turned, so the world-frame ω of a non-spherical body changed.
-                w[k] = rotation::angular_velocity(q[k], l[k], inv_i);
-                m[k] = BodyMotion::predict(
-                    x[k],
-                    v[k],
-                    w[k],
-                    (q[k], l[k], inv_i),
-                    (f * inv_mass[i] + gravity, t),
-                    h,
-                    bounding_radius[i],
-                );
-            }
+            let bodies = c * BODIES_PER_TASK..c * BODIES_PER_TASK + x.len();
+            let mut arrays = Arrays {
+                position: x,
+                velocity: v,
+                orientation: q,
+                angular_momentum: l,
+                angular_velocity: w,
+                motion: m,
+                inv_mass: &inv_mass[bodies.clone()],
+                inv_inertia: &inv_inertia[bodies.clone()],
+                force: &force[bodies.clone()],
+                torque: &torque[bodies.clone()],
+                bounding_radius: &bounding_radius[bodies],
+            };
+            kick_drift_task(&mut arrays, kick, dt);
         });
+}
+
+/// [`kick_drift`] over one task's bodies: isotropic ones four at a time where the CPU can.
+fn kick_drift_task(arrays: &mut Arrays, kick: Kick, dt: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX, which is all `kick_drift_avx` is compiled for.
+        unsafe { kick_drift_avx(arrays, kick, dt) };
+        return;
+    }
+    // SAFETY: off x86-64 the four-wide path is plain arrays; on it, without AVX, `by_fours` is
+    // false and the path is not taken.
+    unsafe { kick_drift_bodies(arrays, kick, dt, cfg!(not(target_arch = "x86_64"))) };
+}
+
+/// [`kick_drift_bodies`] compiled for AVX, whose 256-bit registers hold an `F4`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn kick_drift_avx(arrays: &mut Arrays, kick: Kick, dt: f64) {
+    kick_drift_bodies(arrays, kick, dt, true);
+}
+
+/// The opening half kick and drift of the bodies of `arrays`, in order: four isotropic bodies at
+/// once when `by_fours` (`isotropic::four`), the others one by one.
+///
+/// # Safety
+/// `by_fours` only on a CPU with AVX, from code compiled for it (off x86-64, always).
+#[inline(always)]
+unsafe fn kick_drift_bodies(arrays: &mut Arrays, kick: Kick, dt: f64, by_fours: bool) {
+    let count = arrays.position.len();
+    let mut k = 0;
+    while k < count {
+        let four = by_fours
+            && k + 4 <= count
+            && rotation::is_isotropic(arrays.inv_inertia[k])
+            && rotation::is_isotropic(arrays.inv_inertia[k + 1])
+            && rotation::is_isotropic(arrays.inv_inertia[k + 2])
+            && rotation::is_isotropic(arrays.inv_inertia[k + 3]);
+        // SAFETY: `by_fours` only where the four-wide path may run (the caller's promise).
+        if four && unsafe { isotropic::four(arrays, k, kick, dt) } {
+            k += 4;
+        } else {
+            kick_drift_one(arrays, k, kick, dt);
+            k += 1;
+        }
+    }
+}
+
+/// The opening half kick and drift of body `k` of `arrays`.
+#[inline(always)]
+fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
+    let Arrays {
+        position: x,
+        velocity: v,
+        orientation: q,
+        angular_momentum: l,
+        angular_velocity: w,
+        motion: m,
+        ..
+    } = arrays;
+    let (f, t, inv_i) = (arrays.force[k], arrays.torque[k], arrays.inv_inertia[k]);
+    let (inv_mass, h) = (arrays.inv_mass[k], kick.h);
+    if rotation::is_isotropic(inv_i) {
+        // A sphere (or a cube, a regular polyhedron): the general path below, with the steps its
+        // isotropic branches take and nothing else; ω = L/I is the same before and after the
+        // drift.
+        let acceleration = f * inv_mass + kick.gravity;
+        v[k] += acceleration * h;
+        l[k] += t * h;
+        w[k] = l[k] * inv_i.x;
+        x[k] += v[k] * dt;
+        q[k] = rotation::drift_isotropic(q[k], l[k], inv_i, dt);
+        m[k] = BodyMotion {
+            position: x[k],
+            velocity: v[k],
+            angular_velocity: w[k],
+            velocity_end: v[k] + acceleration * h,
+            angular_velocity_end: (l[k] + t * h) * inv_i.x,
+            radius: arrays.bounding_radius[k],
+        };
+        return;
+    }
+    let body = KickedBody {
+        velocity: &mut v[k],
+        angular_momentum: &mut l[k],
+        angular_velocity: &mut w[k],
+        orientation: q[k],
+        inv_mass,
+        inv_inertia: inv_i,
+    };
+    kick.apply(body, f, t);
+    x[k] += v[k] * dt;
+    q[k] = rotation::drift(q[k], l[k], inv_i, dt);
+    // The body frame turned, so the world-frame ω of a non-spherical body changed.
+    w[k] = rotation::angular_velocity(q[k], l[k], inv_i);
+    m[k] = BodyMotion::predict(
+        x[k],
+        v[k],
+        w[k],
+        (q[k], l[k], inv_i),
+        (f * inv_mass + kick.gravity, t),
+        h,
+        arrays.bounding_radius[k],
+    );
 }

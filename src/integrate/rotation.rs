@@ -154,6 +154,9 @@ fn renormalize(q: DQuat) -> DQuat {
     q * (1.5 - 0.5 * q.length_squared())
 }
 
+/// The square of the largest angle [`rotation_by`] turns by its series.
+pub(crate) const SERIES_LIMIT: f64 = 2.5e-3;
+
 /// The rotation by the angle |v| about v, exp(v/2) as a quaternion. A DEM step turns a body by
 /// far less than 0.05 rad, where the Taylor series of sin(θ/2)/θ and cos(θ/2) to θ⁶ are exact to
 /// round-off (the first omitted terms, θ⁸/185,794,560 and θ⁸/10,321,920, are below 4e-18): no
@@ -161,7 +164,7 @@ fn renormalize(q: DQuat) -> DQuat {
 #[inline(always)]
 pub fn rotation_by(v: DVec3) -> DQuat {
     let t2 = v.length_squared();
-    if t2 >= 2.5e-3 {
+    if t2 >= SERIES_LIMIT {
         return DQuat::from_scaled_axis(v);
     }
     let sin_half_over_angle =

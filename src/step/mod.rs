@@ -14,7 +14,6 @@
 pub mod candidates;
 pub mod detect;
 pub mod forces;
-pub mod lanes;
 mod prefetch;
 pub mod space_order;
 pub mod sphere_lanes;

@@ -15,12 +15,12 @@
 //! happen to share a group, for any thread count and on any machine.
 
 use super::forces::LawInputs;
-use super::lanes::{F4, M4, V3};
 use super::spheres;
 use crate::contact::{EntryIds, EntryState, LawReport, Load};
 use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
 use crate::integrate::BodyMotion;
 use crate::math::DVec3;
+use crate::wide::lanes::{F4, M4, V3};
 
 /// Entries waiting to go through the kernel together.
 #[derive(Default)]

@@ -1,4 +1,5 @@
-//! Four numbers at once: the value types of the four-wide sphere kernel (`step::sphere_lanes`).
+//! Four numbers at once: the value types of the four-wide paths (the sphere kernel,
+//! `step::sphere_lanes`; the isotropic bodies' drift, `integrate::isotropic`).
 //!
 //! [`F4`] is four `f64` lanes and [`V3`] a vector of them. Every operation is the scalar one
 //! applied lane by lane, and each lane's result is the scalar result to the bit: IEEE addition,
@@ -240,6 +241,13 @@ impl BitOr for M4 {
 }
 
 impl M4 {
+    /// Some lane holds.
+    #[inline(always)]
+    pub fn any(self) -> bool {
+        // No closure: one would be compiled apart from the `#[target_feature]` code it serves.
+        self.lane(0) || self.lane(1) || self.lane(2) || self.lane(3)
+    }
+
     /// Lane `i` holds.
     #[inline(always)]
     pub fn lane(self, i: usize) -> bool {
