@@ -12,7 +12,7 @@
 use super::rotation::SERIES_LIMIT;
 use super::{BodyMotion, Kick};
 use crate::math::{DQuat, DVec3};
-use crate::wide::lanes::{F4, V3};
+use crate::wide::lanes::{each, F4, V3};
 
 /// One body's part of the pass, by reference into the bodies' arrays.
 pub(super) struct Arrays<'a> {
@@ -57,7 +57,7 @@ pub(super) unsafe fn four(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) ->
     let cos_half = c(1.0) - t2 * (c(1.0 / 8.0) - t2 * (c(1.0 / 384.0) - t2 * c(1.0 / 46_080.0)));
     let axis = turn.scale(sin_half_over_angle);
     let (x0, y0, z0, w0) = (axis.x, axis.y, axis.z, cos_half);
-    let q: [DQuat; 4] = std::array::from_fn(|j| arrays.orientation[k + j]);
+    let q: [DQuat; 4] = each(|j| arrays.orientation[k + j]);
     let x1 = F4::new(q.map(|q| q.x));
     let y1 = F4::new(q.map(|q| q.y));
     let z1 = F4::new(q.map(|q| q.z));

@@ -20,7 +20,7 @@ use crate::contact::{EntryIds, EntryState, LawReport, Load};
 use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
 use crate::integrate::BodyMotion;
 use crate::math::DVec3;
-use crate::wide::lanes::{F4, M4, V3};
+use crate::wide::lanes::{each, F4, M4, V3};
 
 /// Entries waiting to go through the kernel together.
 #[derive(Default)]
@@ -117,7 +117,7 @@ struct Laws {
 impl Laws {
     #[inline(always)]
     fn gather(law: [&PairLaw; 4]) -> Self {
-        let lanes = |f: fn(&PairLaw) -> f64| F4::new(std::array::from_fn(|i| f(law[i])));
+        let lanes = |f: fn(&PairLaw) -> f64| F4::new(each(|i| f(law[i])));
         let is_hertz = |l: &PairLaw| {
             if l.normal == NormalLaw::Hertz {
                 1.0
@@ -208,18 +208,18 @@ fn kernel(
     dt: f64,
 ) {
     let bodies = inputs.scene.bodies;
-    let pair: [(usize, usize); 4] = std::array::from_fn(|i| spheres::bodies(ids.key[entries[i]]));
+    let pair: [(usize, usize); 4] = each(|i| spheres::bodies(ids.key[entries[i]]));
     let (motion, mass) = (inputs.motion, &bodies.mass);
-    let a = MotionLanes::gather(std::array::from_fn(|i| &motion[pair[i].0]));
-    let b = MotionLanes::gather(std::array::from_fn(|i| &motion[pair[i].1]));
-    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(std::array::from_fn(f));
+    let a = MotionLanes::gather(each(|i| &motion[pair[i].0]));
+    let b = MotionLanes::gather(each(|i| &motion[pair[i].1]));
+    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
     let (xa, xb) = (a.position, b.position);
     let (ra, rb) = (a.radius, b.radius);
-    let law = Laws::gather(std::array::from_fn(|i| {
+    let law = Laws::gather(each(|i| {
         let (p, q) = pair[i];
         inputs.laws.get(bodies.material[p], bodies.material[q])
     }));
-    let history: [&History; 4] = std::array::from_fn(|i| &state.history[entries[i]]);
+    let history: [&History; 4] = each(|i| &state.history[entries[i]]);
     let old_spring = V3::gather(|i| history[i].tangential_spring);
     let old_kt = scalars(&|i| history[i].tangential_stiffness);
     let previous_damper = V3::gather(|i| history[i].damper_force.as_dvec3());
@@ -322,9 +322,7 @@ fn kernel(
     let normal_damper = total - elastic;
     let damper_force = normal.scale(normal_damper) + damper_t;
     let (damper_work, damper_force, damper_estimate) = if dt == 0.0 {
-        let kept = F4::new(std::array::from_fn(|i| {
-            history[i].damper_work_estimate as f64
-        }));
+        let kept = F4::new(each(|i| history[i].damper_work_estimate as f64));
         (zero, (previous_damper + damper_force).scale(half), kept)
     } else {
         let estimate = (normal_damper * overlap_rate - damper_t.dot(tangential_velocity_end)) * dt4;

@@ -318,6 +318,14 @@ impl Neg for F4 {
     }
 }
 
+/// `[f(0), f(1), f(2), f(3)]`: what `std::array::from_fn` gives, written out, because the
+/// compiler left `from_fn` a function of its own in the sphere kernel (1 % of a settled step),
+/// and a call out of a `#[target_feature]` function is one into baseline code.
+#[inline(always)]
+pub fn each<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
+}
+
 /// A vector of [`F4`]: four 3-vectors, one per lane.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct V3 {
@@ -335,11 +343,11 @@ impl V3 {
     /// The four vectors `lane(0)` … `lane(3)`.
     #[inline(always)]
     pub fn gather(lane: impl Fn(usize) -> DVec3) -> Self {
-        let v: [DVec3; 4] = std::array::from_fn(lane);
+        let v: [DVec3; 4] = each(lane);
         V3 {
-            x: F4::new(std::array::from_fn(|i| v[i].x)),
-            y: F4::new(std::array::from_fn(|i| v[i].y)),
-            z: F4::new(std::array::from_fn(|i| v[i].z)),
+            x: F4::new(each(|i| v[i].x)),
+            y: F4::new(each(|i| v[i].y)),
+            z: F4::new(each(|i| v[i].z)),
         }
     }
 
@@ -357,7 +365,7 @@ impl V3 {
     #[inline(always)]
     pub fn lanes(&self) -> [DVec3; 4] {
         let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
-        std::array::from_fn(|i| DVec3::new(x[i], y[i], z[i]))
+        each(|i| DVec3::new(x[i], y[i], z[i]))
     }
 
     /// As glam's `DVec3::dot`: (x x' + y y') + z z'.
