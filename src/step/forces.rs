@@ -463,9 +463,9 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
                     velocity: v,
                     angular_momentum: l,
                     angular_velocity: w,
-                    orientation: orientation[i],
+                    orientation: &orientation[i],
                     inv_mass: inv_mass[i],
-                    inv_inertia: inv_inertia[i],
+                    inv_inertia: &inv_inertia[i],
                 };
                 kick.apply(body, f, t);
             }
