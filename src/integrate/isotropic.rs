@@ -14,7 +14,7 @@ use super::{BodyMotion, Kick};
 use crate::math::{DQuat, DVec3};
 use crate::wide::lanes::{each, F4, V3};
 
-/// One body's part of the pass, by reference into the bodies' arrays.
+/// One task's bodies, as slices of the bodies' arrays: what the pass reads and writes of them.
 pub(super) struct Arrays<'a> {
     pub position: &'a mut [DVec3],
     pub velocity: &'a mut [DVec3],
@@ -101,8 +101,9 @@ pub(super) unsafe fn four(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) ->
     true
 }
 
-// Helpers of `four` as functions, not closures: a closure would be compiled apart from the
-// `#[target_feature]` code that inlines `four` (see `wide`).
+// Helpers of `four` that compute with `F4` are functions, not closures: a closure would be
+// compiled apart from the `#[target_feature]` code that inlines `four` (see `wide`), and its AVX
+// operations would become calls. Closures that only load numbers (`each`, `map`) are harmless.
 
 /// Lanes `k..k + 4` of `values`.
 #[inline(always)]
