@@ -286,6 +286,7 @@ impl World {
     fn update_forces(&mut self, dt: f64, kick: Option<Kick>) {
         let mut clock = Stopwatch::start();
         self.update_candidates();
+        clock.lap(&mut self.times.candidates);
         self.update_wall_states(dt);
         let scene = step::Scene {
             bodies: &self.bodies,

@@ -236,6 +236,7 @@ pub fn run(
     ));
     let window = Instant::now();
     let before = *world.stage_times();
+    let rebuilds_before = world.pair_rebuilds();
     world.run_steps(steps - window_start);
     let seconds = window.elapsed().as_secs_f64();
     let after = *world.stage_times();
@@ -248,9 +249,11 @@ pub fn run(
         other: after.other - before.other,
     };
     progress(&format!(
-        "step {steps}: kinetic energy {:.4e} J; window by stage: {}",
+        "step {steps}: kinetic energy {:.4e} J; window by stage: {}; candidate list made {} \
+         times",
         kinetic_energy(world),
-        in_window.summary()
+        in_window.summary(),
+        world.pair_rebuilds() - rebuilds_before
     ));
     Ok(SceneTiming {
         name: scene_name(file),
