@@ -171,7 +171,13 @@ impl LawInputs<'_> {
             k.dashpot_limit = DashpotLimit::of_masses(normal, tangential, self.inverse_step);
         }
         let law = self.laws.get(b.material[a], material);
-        contact_law::evaluate(law, &k, history, spin, dt)
+        // A point contact without rolling friction (a sphere on a wall, say) needs only the
+        // normal and tangential laws: the same bits without the terms that are zero there.
+        if volume.is_none() && law.rolling_friction <= 0.0 {
+            contact_law::evaluate_point(law, &k, history, dt)
+        } else {
+            contact_law::evaluate(law, &k, history, spin, dt)
+        }
     }
 }
 
