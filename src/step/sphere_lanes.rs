@@ -117,7 +117,17 @@ struct Laws {
 impl Laws {
     #[inline(always)]
     fn gather(law: [&PairLaw; 4]) -> Self {
-        let lanes = |f: fn(&PairLaw) -> f64| F4::new(each(|i| f(law[i])));
+        // Most groups share one law (a scene has few materials): its numbers are then loaded
+        // once each and broadcast, not gathered lane by lane and shuffled together, which keeps
+        // about fifty loads and shuffles off the kernel's vector units.
+        let shared = law[1..].iter().all(|&l| std::ptr::eq(l, law[0]));
+        let lanes = |f: fn(&PairLaw) -> f64| {
+            if shared {
+                F4::splat(f(law[0]))
+            } else {
+                F4::new(each(|i| f(law[i])))
+            }
+        };
         let is_hertz = |l: &PairLaw| {
             if l.normal == NormalLaw::Hertz {
                 1.0
