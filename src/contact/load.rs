@@ -8,6 +8,7 @@ use crate::math::DVec3;
 
 /// The force and the moments a contact puts on its two bodies this step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct Load {
     /// Force on body `a` [N]; the partner takes the opposite.
     pub force: DVec3,
@@ -45,6 +46,7 @@ impl Load {
 
 /// What else the law reports of a contact this step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct LawReport {
     /// Normal force magnitude [N].
     pub normal_force: f64,
@@ -62,5 +64,42 @@ impl LawReport {
             elastic_energy: r.elastic_energy,
             dissipated: r.dissipated,
         }
+    }
+}
+
+// The layouts the four-wide sphere kernel writes (`Load::as_rows_mut`, `LawReport::as_array_mut`):
+// nine and three `f64` in the order of the fields, no padding.
+const _: () = {
+    use std::mem::{offset_of, size_of};
+    assert!(size_of::<Load>() == 72 && offset_of!(Load, torque_a) == 24);
+    assert!(offset_of!(Load, torque_b) == 48);
+    assert!(size_of::<LawReport>() == 24 && offset_of!(LawReport, elastic_energy) == 8);
+    assert!(offset_of!(LawReport, dissipated) == 16);
+};
+
+impl Load {
+    /// The load's nine numbers as rows of four, four and one: (force, torque_a.x),
+    /// (torque_a.y, torque_a.z, torque_b.x, torque_b.y), torque_b.z.
+    #[inline(always)]
+    pub(crate) fn as_rows_mut(&mut self) -> (&mut [f64; 4], &mut [f64; 4], &mut f64) {
+        let start = (self as *mut Load).cast::<f64>();
+        // SAFETY: `Load` is `repr(C)`, nine `f64` with no padding (asserted above; glam's
+        // `DVec3` is three `repr(C)` `f64`); the three parts do not overlap.
+        unsafe {
+            (
+                &mut *start.cast::<[f64; 4]>(),
+                &mut *start.add(4).cast::<[f64; 4]>(),
+                &mut *start.add(8),
+            )
+        }
+    }
+}
+
+impl LawReport {
+    /// The report's three numbers in the order of the fields.
+    #[inline(always)]
+    pub(crate) fn as_array_mut(&mut self) -> &mut [f64; 3] {
+        // SAFETY: `LawReport` is `repr(C)`, three `f64` with no padding (asserted above).
+        unsafe { &mut *(self as *mut LawReport).cast::<[f64; 3]>() }
     }
 }

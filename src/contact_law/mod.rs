@@ -168,6 +168,7 @@ pub struct OverlapVolume {
 
 /// What every contact remembers between steps while it lasts: its tangential spring.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct History {
     /// Tangential spring elongation ξ [m].
     pub tangential_spring: DVec3,
@@ -187,7 +188,31 @@ pub struct History {
     pub damper_work_estimate: f32,
 }
 
+// The layout `History::as_rows_mut` writes: four `f64` (spring, stiffness), then four `f32`.
+const _: () = {
+    use std::mem::{offset_of, size_of};
+    assert!(size_of::<History>() == 48 && offset_of!(History, tangential_stiffness) == 24);
+    assert!(offset_of!(History, damper_force) == 32);
+    assert!(offset_of!(History, damper_work_estimate) == 44);
+};
+
 impl History {
+    /// The history as two rows, (spring, stiffness) and (dashpot force, work estimate): what
+    /// the four-wide sphere kernel writes whole (`step::sphere_lanes`).
+    #[inline(always)]
+    pub(crate) fn as_rows_mut(&mut self) -> (&mut [f64; 4], &mut [f32; 4]) {
+        let start = (self as *mut History).cast::<u8>();
+        // SAFETY: `History` is `repr(C)`, four `f64` and then four `f32` with no padding
+        // (asserted above; glam's `DVec3` and `Vec3` are three `repr(C)` numbers); the two rows
+        // do not overlap, and their alignments are no stronger than the history's.
+        unsafe {
+            (
+                &mut *start.cast::<[f64; 4]>(),
+                &mut *start.add(32).cast::<[f32; 4]>(),
+            )
+        }
+    }
+
     /// Energy held in the tangential spring. When a contact ends this energy is lost with it: the
     /// ledger counts it as dissipated. (The normal spring needs no such care: its energy goes
     /// back into motion as the overlap closes.)

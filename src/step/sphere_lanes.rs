@@ -16,7 +16,7 @@
 
 use super::forces::LawInputs;
 use super::spheres;
-use crate::contact::{EntryIds, EntryState, LawReport, Load};
+use crate::contact::{EntryIds, EntryState};
 use crate::contact_law::{History, NormalLaw, PairLaw, DASHPOT_BOUND, TANGENTIAL_MASS_SHARE};
 use crate::integrate::BodyMotion;
 use crate::math::DVec3;
@@ -347,33 +347,30 @@ fn kernel(
     let torque_a = arm_a.cross(force) + V3::zero();
     let torque_b = -(arm_b.cross(force) + V3::zero());
 
-    let xi = xi.lanes();
-    let (damper_force, force) = (damper_force.lanes(), force.lanes());
-    let (torque_a, torque_b) = (torque_a.lanes(), torque_b.lanes());
-    let (kt, damper_estimate) = (kt.to_array(), damper_estimate.to_array());
-    let (total, elastic_energy, dissipated) = (
-        total.to_array(),
-        elastic_energy.to_array(),
-        dissipated.to_array(),
-    );
+    // Each entry's history, load and report are written whole, row by row: the lanes are
+    // turned into rows in registers (the same numbers, so the same bits) and stored 32 bytes at
+    // a time, where writing them number by number cost a store and a reload each.
+    let spring = F4::rows([xi.x, xi.y, xi.z, kt]);
+    let damper = F4::rows([
+        damper_force.x,
+        damper_force.y,
+        damper_force.z,
+        damper_estimate,
+    ]);
+    let load_first = F4::rows([force.x, force.y, force.z, torque_a.x]);
+    let load_second = F4::rows([torque_a.y, torque_a.z, torque_b.x, torque_b.y]);
+    let load_last = torque_b.z.to_array();
+    let report = F4::rows([total, elastic_energy, dissipated, zero]);
     for (i, &k) in entries.iter().enumerate() {
         state.touching[k] = true;
-        state.history[k] = History {
-            tangential_spring: xi[i],
-            tangential_stiffness: kt[i],
-            damper_force: damper_force[i].as_vec3(),
-            damper_work_estimate: damper_estimate[i] as f32,
-        };
-        state.load[k] = Load {
-            force: force[i],
-            torque_a: torque_a[i],
-            torque_b: torque_b[i],
-        };
-        state.report[k] = LawReport {
-            normal_force: total[i],
-            elastic_energy: elastic_energy[i],
-            dissipated: dissipated[i],
-        };
+        let (history_spring, history_damper) = state.history[k].as_rows_mut();
+        spring[i].store(history_spring);
+        damper[i].store_f32(history_damper);
+        let (first, second, last) = state.load[k].as_rows_mut();
+        load_first[i].store(first);
+        load_second[i].store(second);
+        *last = load_last[i];
+        report[i].store3(state.report[k].as_array_mut());
     }
 }
 
@@ -381,7 +378,7 @@ fn kernel(
 mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
-    use crate::contact::{ContactKey, PairKind, Partner};
+    use crate::contact::{ContactKey, LawReport, Load, PairKind, Partner};
     use crate::contact_law::{NormalLaw, SpinHistory};
     use crate::integrate::BodyMotion;
     use crate::material::{Material, PairTable};

@@ -206,12 +206,83 @@ impl F4 {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl F4 {
+    /// The rows of four columns, the inverse of [`F4::transpose`]: lane `k` of row `i` is lane
+    /// `i` of `columns[k]` (eight shuffles, all in registers).
+    #[inline(always)]
+    pub fn rows(columns: [F4; 4]) -> [F4; 4] {
+        let [c0, c1, c2, c3] = columns.map(|c| c.0);
+        // SAFETY: register shuffles only.
+        unsafe {
+            let (t0, t1) = (_mm256_unpacklo_pd(c0, c1), _mm256_unpackhi_pd(c0, c1));
+            let (t2, t3) = (_mm256_unpacklo_pd(c2, c3), _mm256_unpackhi_pd(c2, c3));
+            [
+                F4(_mm256_permute2f128_pd(t0, t2, 0x20)),
+                F4(_mm256_permute2f128_pd(t1, t3, 0x20)),
+                F4(_mm256_permute2f128_pd(t0, t2, 0x31)),
+                F4(_mm256_permute2f128_pd(t1, t3, 0x31)),
+            ]
+        }
+    }
+
+    /// Writes the four lanes to `to` in one store.
+    #[inline(always)]
+    pub fn store(self, to: &mut [f64; 4]) {
+        // SAFETY: `to` has room for four numbers; unaligned stores have no other demand.
+        unsafe { _mm256_storeu_pd(to.as_mut_ptr(), self.0) }
+    }
+
+    /// Writes the first three lanes to `to` (two stores).
+    #[inline(always)]
+    pub fn store3(self, to: &mut [f64; 3]) {
+        // SAFETY: `to` has room for three numbers: two go in one 128-bit store, the third in a
+        // 64-bit one.
+        unsafe {
+            _mm_storeu_pd(to.as_mut_ptr(), _mm256_castpd256_pd128(self.0));
+            _mm_store_sd(to.as_mut_ptr().add(2), _mm256_extractf128_pd::<1>(self.0));
+        }
+    }
+
+    /// Writes the four lanes to `to` rounded to single precision, as `f64 as f32` rounds each.
+    #[inline(always)]
+    pub fn store_f32(self, to: &mut [f32; 4]) {
+        // SAFETY: `to` has room for four numbers. The conversion rounds as MXCSR says, to
+        // nearest (ties to even) unless someone changed it, which Rust code does not do.
+        unsafe { _mm_storeu_ps(to.as_mut_ptr(), _mm256_cvtpd_ps(self.0)) }
+    }
+}
+
 #[cfg(not(target_arch = "x86_64"))]
 impl F4 {
     /// The columns of four rows of four numbers: lane `i` of column `k` is `rows[i][k]`.
     #[inline(always)]
     pub fn transpose(rows: [&[f64; 4]; 4]) -> [F4; 4] {
         std::array::from_fn(|k| F4::new(std::array::from_fn(|i| rows[i][k])))
+    }
+
+    /// The rows of four columns: lane `k` of row `i` is lane `i` of `columns[k]`.
+    #[inline(always)]
+    pub fn rows(columns: [F4; 4]) -> [F4; 4] {
+        std::array::from_fn(|i| F4::new(std::array::from_fn(|k| columns[k].0[i])))
+    }
+
+    /// Writes the four lanes to `to`.
+    #[inline(always)]
+    pub fn store(self, to: &mut [f64; 4]) {
+        *to = self.0;
+    }
+
+    /// Writes the first three lanes to `to`.
+    #[inline(always)]
+    pub fn store3(self, to: &mut [f64; 3]) {
+        to.copy_from_slice(&self.0[..3]);
+    }
+
+    /// Writes the four lanes to `to` rounded to single precision.
+    #[inline(always)]
+    pub fn store_f32(self, to: &mut [f32; 4]) {
+        *to = self.0.map(|v| v as f32);
     }
 }
 
@@ -515,6 +586,45 @@ mod tests {
             for (k, column) in columns.iter().enumerate() {
                 for (i, row) in rows.iter().enumerate() {
                     prop_assert_eq!(column.lane(i).to_bits(), row[k].to_bits());
+                }
+            }
+        }
+    }
+
+    fn wide_float() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            special(),
+            -1e300..1e300f64,
+            // Halfway between two floats and beyond their range: the rounding's hard cases.
+            Just(1.0 + f64::EPSILON * 0.5 + f64::EPSILON * 0.25),
+            Just(f64::from(f32::MAX) * 1.5),
+            Just(f64::from(f32::MIN_POSITIVE) / 3.0),
+        ]
+    }
+
+    proptest! {
+        /// The rows are the columns' transpose and the stores write every number where
+        /// `as f32` and plain copies would, bit for bit.
+        #[test]
+        fn rows_and_stores_write_the_numbers_in_place(
+            columns in prop::array::uniform4(prop::array::uniform4(wide_float())),
+        ) {
+            if !has_lanes() {
+                return Ok(());
+            }
+            let rows = F4::rows(columns.map(F4::new));
+            for (i, row) in rows.iter().enumerate() {
+                let (mut four, mut three, mut single) = ([9.0; 4], [9.0; 3], [9.0f32; 4]);
+                row.store(&mut four);
+                row.store3(&mut three);
+                row.store_f32(&mut single);
+                for k in 0..4 {
+                    prop_assert!(same(four[k], columns[k][i]));
+                    let rounded = columns[k][i] as f32;
+                    prop_assert!(single[k].to_bits() == rounded.to_bits() || rounded.is_nan());
+                }
+                for k in 0..3 {
+                    prop_assert!(same(three[k], columns[k][i]));
                 }
             }
         }
