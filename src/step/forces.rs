@@ -229,8 +229,10 @@ impl Default for Sorted {
 }
 
 impl Sorted {
-    /// Sorts the entries `run` (at most [`RUN`]).
-    #[inline(always)]
+    /// Sorts the entries `run` (at most [`RUN`]). A function of its own: inlined into the
+    /// contact loop, its counters had to share the registers of the loop's other paths, and one
+    /// went to the stack and back at every entry.
+    #[inline(never)]
     fn sort(&mut self, inputs: &LawInputs, ids: &EntryIds, state: &EntryState, run: Range<usize>) {
         let [mut touching, mut ended, mut other] = [0; 3];
         for k in run {

@@ -300,6 +300,16 @@ impl Default for F4 {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl BitOr for M4 {
+    type Output = M4;
+    #[inline(always)]
+    fn bitor(self, other: M4) -> M4 {
+        M4(self.0.lanes(other.0, |a, b| unsafe { _mm256_or_pd(a, b) }))
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
 impl BitOr for M4 {
     type Output = M4;
     #[inline(always)]
