@@ -190,19 +190,19 @@ impl F4 {
     /// loads and eight shuffles, where gathering lane by lane takes sixteen loads).
     #[inline(always)]
     pub fn transpose(rows: [&[f64; 4]; 4]) -> [F4; 4] {
-        // SAFETY: each row has four numbers to load; unaligned loads have no other demand.
-        unsafe {
-            let [r0, r1, r2, r3] = rows.map(|r| _mm256_loadu_pd(r.as_ptr()));
-            // (r0₀ r1₀ r0₂ r1₂), (r0₁ r1₁ r0₃ r1₃), and the same of r2 and r3.
-            let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
-            let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
+        let [r0, r1, r2, r3] = rows;
+        // SAFETY: each row has four numbers to load; unaligned loads have no other demand. (No
+        // closure: one would be compiled without AVX, and its loads would become calls.)
+        let loaded = unsafe {
             [
-                F4(_mm256_permute2f128_pd(t0, t2, 0x20)),
-                F4(_mm256_permute2f128_pd(t1, t3, 0x20)),
-                F4(_mm256_permute2f128_pd(t0, t2, 0x31)),
-                F4(_mm256_permute2f128_pd(t1, t3, 0x31)),
+                F4(_mm256_loadu_pd(r0.as_ptr())),
+                F4(_mm256_loadu_pd(r1.as_ptr())),
+                F4(_mm256_loadu_pd(r2.as_ptr())),
+                F4(_mm256_loadu_pd(r3.as_ptr())),
             ]
-        }
+        };
+        // Turning rows into columns is the same shuffle as columns into rows.
+        F4::rows(loaded)
     }
 }
 
@@ -212,9 +212,10 @@ impl F4 {
     /// `i` of `columns[k]` (eight shuffles, all in registers).
     #[inline(always)]
     pub fn rows(columns: [F4; 4]) -> [F4; 4] {
-        let [c0, c1, c2, c3] = columns.map(|c| c.0);
+        let [F4(c0), F4(c1), F4(c2), F4(c3)] = columns;
         // SAFETY: register shuffles only.
         unsafe {
+            // (c0₀ c1₀ c0₂ c1₂), (c0₁ c1₁ c0₃ c1₃), and the same of c2 and c3.
             let (t0, t1) = (_mm256_unpacklo_pd(c0, c1), _mm256_unpackhi_pd(c0, c1));
             let (t2, t3) = (_mm256_unpacklo_pd(c2, c3), _mm256_unpackhi_pd(c2, c3));
             [
