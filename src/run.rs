@@ -516,7 +516,7 @@ impl Session<'_> {
         let p = &*self.prepared;
         let world = p
             .world
-            .snapshot(&self.templates)
+            .state_ref(&self.templates)
             .map_err(|e| RunError::Checkpoint(CheckpointError::Encode(e.to_string())))?;
         let progress = RunProgress {
             schedule: p

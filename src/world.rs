@@ -27,7 +27,7 @@ mod view;
 pub use config::WorldConfig;
 pub use interventions::WallMotionChangeError;
 pub use share::{RunningTotals, SharePart};
-pub use snapshot::{RestoreError, ShapeRecord, WorldState};
+pub use snapshot::{RestoreError, ShapeRecord, WorldState, WorldStateRef};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances
 /// them. Built complete by [`World::new`] (and the `with_*` parts that a world may lack: mesh

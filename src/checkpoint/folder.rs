@@ -37,7 +37,7 @@ pub fn checkpoints_in(out_dir: &Path) -> Vec<(u64, PathBuf)> {
 pub fn write_keeping_two(
     out_dir: &Path,
     step: u64,
-    checkpoint: &Checkpoint,
+    checkpoint: &Checkpoint<impl serde::Serialize>,
 ) -> Result<PathBuf, CheckpointError> {
     let path = checkpoint_path(out_dir, step);
     std::fs::create_dir_all(folder(out_dir)).map_err(|source| CheckpointError::Write {

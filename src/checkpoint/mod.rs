@@ -24,15 +24,17 @@ use crate::World;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
-/// Everything a resumed run needs.
+/// Everything a resumed run needs. A run writes it with its world's state borrowed
+/// (`Checkpoint<WorldStateRef>`, see [`crate::world::WorldStateRef`]: the same bytes) and reads it
+/// back owned.
 #[derive(Serialize, Deserialize)]
-pub struct Checkpoint {
+pub struct Checkpoint<W = WorldState> {
     /// The polydem that wrote it (for messages; the format version decides what can be read).
     pub polydem_version: String,
     pub scene: SceneRecord,
     /// See [`fingerprint`].
     pub fingerprint: u64,
-    pub world: WorldState,
+    pub world: W,
     pub progress: RunProgress,
 }
 

@@ -27,6 +27,16 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
+    write_atomic_unnamed(path, |file| write(file)).map_err(|e| naming(path, e))
+}
+
+/// As [`write_atomic`], but `write` is given the buffered temporary file itself, in which it may
+/// seek: for a format whose header says what only the end of the writing knows (a length, a
+/// checksum), written without holding the whole file in memory.
+pub fn write_atomic_file(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> io::Result<()> {
     write_atomic_unnamed(path, write).map_err(|e| naming(path, e))
 }
 
@@ -41,7 +51,7 @@ pub(crate) fn naming(path: &Path, e: io::Error) -> io::Error {
 
 fn write_atomic_unnamed(
     path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
 ) -> io::Result<()> {
     let temp = temp_path(path)?;
     // `create_new` never clobbers a file we did not create; the guard is only

@@ -86,10 +86,73 @@ pub enum RestoreError {
     },
 }
 
+/// The same state as [`WorldState`], borrowed from the world rather than copied: what a
+/// checkpoint writes. Serialized, it gives the same bytes as the [`WorldState`] it stands for
+/// (the same fields in the same order), so a checkpoint can be written without a second copy of
+/// the bodies and contacts (at 65,000 spheres, about 60 MB).
+#[derive(Serialize)]
+pub struct WorldStateRef<'a> {
+    pub time: f64,
+    pub steps_done: u64,
+    pub time_step: f64,
+    pub gravity: DVec3,
+    pub gravity_work: f64,
+    pub bodies: &'a Bodies,
+    pub shapes: Vec<ShapeRecord>,
+    pub dissipated: f64,
+    pub energy_inserted: f64,
+    pub energy_removed: f64,
+    pub bodies_removed: u64,
+    pub flow_meters: &'a [FlowMeter],
+    pub contacts: &'a ContactStore,
+    pub wall_loads: &'a WallLoads,
+    pub wall_time: f64,
+    pub wall_poses: Vec<WallPose>,
+    pub wall_states: &'a [Option<[WallState; 2]>],
+    pub next_id: u64,
+    pub search: SearchState,
+    pub forces_current: bool,
+    pub kick_excess: f64,
+}
+
+impl WorldStateRef<'_> {
+    /// The state as owned data.
+    pub fn to_owned(&self) -> WorldState {
+        WorldState {
+            time: self.time,
+            steps_done: self.steps_done,
+            time_step: self.time_step,
+            gravity: self.gravity,
+            gravity_work: self.gravity_work,
+            bodies: self.bodies.clone(),
+            shapes: self.shapes.clone(),
+            dissipated: self.dissipated,
+            energy_inserted: self.energy_inserted,
+            energy_removed: self.energy_removed,
+            bodies_removed: self.bodies_removed,
+            flow_meters: self.flow_meters.to_vec(),
+            contacts: self.contacts.clone(),
+            wall_loads: self.wall_loads.clone(),
+            wall_time: self.wall_time,
+            wall_poses: self.wall_poses.clone(),
+            wall_states: self.wall_states.to_vec(),
+            next_id: self.next_id,
+            search: self.search.clone(),
+            forces_current: self.forces_current,
+            kick_excess: self.kick_excess,
+        }
+    }
+}
+
 impl World {
     /// The world's state, with polyhedral shapes named by their place in `templates` (compared
     /// by identity: the shapes the scene built, which the bodies share).
     pub fn snapshot(&self, templates: &[Shape]) -> Result<WorldState, RestoreError> {
+        Ok(self.state_ref(templates)?.to_owned())
+    }
+
+    /// The world's state as [`World::snapshot`] gives it, borrowed where it is large.
+    pub fn state_ref(&self, templates: &[Shape]) -> Result<WorldStateRef<'_>, RestoreError> {
         let shapes = self
             .shapes
             .iter()
@@ -103,24 +166,24 @@ impl World {
                     .ok_or(RestoreError::UnknownShape { entry }),
             })
             .collect::<Result<_, _>>()?;
-        Ok(WorldState {
+        Ok(WorldStateRef {
             time: self.time,
             steps_done: self.steps_done,
             time_step: self.time_step,
             gravity: self.gravity,
             gravity_work: self.gravity_work,
-            bodies: self.bodies.clone(),
+            bodies: &self.bodies,
             shapes,
             dissipated: self.dissipated,
             energy_inserted: self.energy_inserted,
             energy_removed: self.energy_removed,
             bodies_removed: self.bodies_removed,
-            flow_meters: self.flow_meters.clone(),
-            contacts: self.contacts.clone(),
-            wall_loads: self.wall_loads.clone(),
+            flow_meters: &self.flow_meters,
+            contacts: &self.contacts,
+            wall_loads: &self.wall_loads,
             wall_time: self.wall_time,
             wall_poses: self.mesh_walls.iter().map(|w| w.pose()).collect(),
-            wall_states: self.wall_states.clone(),
+            wall_states: &self.wall_states,
             next_id: self.next_id,
             search: self.search.state(),
             forces_current: self.forces_current,
