@@ -21,6 +21,7 @@ use crate::math::permute_in_place;
 use crate::narrow_phase::{self, ContactPoint, Geometry};
 use crate::shape::Shape;
 use crate::wall::Plane;
+use rayon::prelude::*;
 
 mod transfer;
 pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
@@ -367,13 +368,14 @@ impl ContactStore {
                 *slot += 1;
             }
         }
-        for i in 0..bodies {
-            let list = &mut self.incoming
-                [self.incoming_first[i] as usize..self.incoming_first[i + 1] as usize];
-            list.sort_unstable_by_key(|&e| {
-                (ids[keys[e as usize].a as usize], keys[e as usize].region)
+        // Each body's list (in parallel: the lists are grouped by partner).
+        self.incoming
+            .par_chunk_by_mut(|&x, &y| keys[x as usize].partner == keys[y as usize].partner)
+            .for_each(|list| {
+                list.sort_unstable_by_key(|&e| {
+                    (ids[keys[e as usize].a as usize], keys[e as usize].region)
+                })
             });
-        }
     }
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed

@@ -28,6 +28,8 @@ pub struct NeighbourSearch {
     valid: bool,
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
+    /// Which of `pairs` come within a skin (working memory of the search).
+    keep: Vec<bool>,
     wall_candidates: Vec<(u32, Partner)>,
     /// The candidates, in the store's order ([`Candidate::order`]).
     list: Vec<Candidate>,
@@ -60,6 +62,7 @@ impl NeighbourSearch {
             valid: false,
             boxes: Vec::new(),
             pairs: Vec::new(),
+            keep: Vec::new(),
             wall_candidates: Vec::new(),
             list: Vec::new(),
             first: Vec::new(),
@@ -131,23 +134,28 @@ impl NeighbourSearch {
             return None;
         }
         self.boxes.clear();
-        self.boxes.extend(
+        self.boxes.par_extend(
             bodies
                 .position
-                .iter()
+                .par_iter()
                 .zip(&bodies.bounding_radius)
                 .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
         // Boxes overlap more often than the bounding spheres come within a skin of each other
-        // (by about 6/π): keep only the pairs that can touch before the next search.
+        // (by about 6/π): keep only the pairs that can touch before the next search. Which ones is
+        // found in parallel (a distance each, the bodies read at random), the list then closed up
+        // in order.
         let (x, r) = (&bodies.position, &bodies.bounding_radius);
         let skin = self.skin;
-        self.pairs.retain(|&(i, j)| {
+        self.keep.clear();
+        self.keep.par_extend(self.pairs.par_iter().map(|&(i, j)| {
             let (i, j) = (i as usize, j as usize);
             let reach = r[i] + r[j] + skin;
             (x[i] - x[j]).length_squared() <= reach * reach
-        });
+        }));
+        let mut keep = self.keep.iter();
+        self.pairs.retain(|_| keep.next() == Some(&true));
         self.find_wall_candidates(bodies, planes, walls);
         self.merge(bodies, shapes);
         self.reference_position.clone_from(&bodies.position);
@@ -269,10 +277,10 @@ impl NeighbourSearch {
                 kind: PairKind::of(traits(a), partner, None),
             });
         }
-        for i in 0..bodies.len() {
-            self.list[first[i] as usize..first[i + 1] as usize]
-                .sort_unstable_by_key(|c| c.partner.rank(ids));
-        }
+        // Each body's run (the bodies' runs in parallel: the list is grouped by body `a`).
+        self.list
+            .par_chunk_by_mut(|x, y| x.a == y.a)
+            .for_each(|run| run.sort_unstable_by_key(|c| c.partner.rank(ids)));
     }
 }
 
