@@ -130,7 +130,7 @@ impl NeighbourSearch {
         walls: &[MeshWall],
     ) -> Option<&[Candidate]> {
         let half_skin = 0.5 * self.skin;
-        if self.valid && !self.moved_too_far(bodies, walls, half_skin) {
+        if self.valid && !self.moved_too_far(bodies, walls) {
             return None;
         }
         self.boxes.clear();
@@ -166,24 +166,40 @@ impl NeighbourSearch {
         Some(&self.list)
     }
 
-    fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall], half_skin: f64) -> bool {
-        let limit = half_skin * half_skin;
+    /// Whether the list may have gone stale: two bodies that were more than a skin apart (their
+    /// bounding spheres' gap) may now touch once the two largest distances any bodies moved add up
+    /// to more than the skin (a pair comes at most as much closer as its two bodies moved); a
+    /// body may have reached a plane it was more than a skin away from once it moved a skin (the
+    /// two largest include it); with mesh walls, once a body moved half a skin (a wall's
+    /// triangles are candidates within a skin, and the wall may move the other half); a moving
+    /// wall, once it moved half a skin.
+    ///
+    /// The two largest rather than twice the largest: in a settling bed a few bodies still
+    /// bounce while the rest creep, and the list then lasts until the creep adds up.
+    fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall]) -> bool {
+        let half_skin = 0.5 * self.skin;
         let wall_moved = walls.iter().zip(&self.reference_pose).any(|(w, then)| {
             !w.motion.keeps_place() && wall_displacement(w, then, &w.pose()) > half_skin
         });
-        wall_moved
-            || bodies
+        if wall_moved {
+            return true;
+        }
+        let moves = largest_two(
+            bodies
                 .position
                 .par_iter()
                 .zip(self.reference_position.par_iter())
-                .any(|(x, x0)| (*x - *x0).length_squared() > limit)
+                .with_min_len(4096)
+                .map(|(x, x0)| (*x - *x0).length_squared()),
+        );
+        bodies_moved_too_far(moves, self.skin, !walls.is_empty())
     }
 
-    /// Planes within half a skin of a body's bounding sphere (planes do not move), and mesh walls
-    /// with a triangle whose box comes within a skin of it (body and wall may each move half a
-    /// skin before the list is made again).
+    /// Planes within a skin of a body's bounding sphere (planes do not move, and a body moves at
+    /// most a skin before the list is made again), and mesh walls with a triangle whose box comes
+    /// within a skin of it (body and wall may each move half a skin before the list is made
+    /// again: see [`NeighbourSearch::moved_too_far`]).
     fn find_wall_candidates(&mut self, bodies: &Bodies, planes: &[Plane], walls: &[MeshWall]) {
-        let half_skin = 0.5 * self.skin;
         let skin = self.skin;
         self.wall_candidates.clear();
         if planes.is_empty() && walls.is_empty() {
@@ -199,7 +215,7 @@ impl NeighbourSearch {
                     let near_planes = planes
                         .iter()
                         .enumerate()
-                        .filter(move |(_, p)| (x - p.point).dot(p.normal) < r + half_skin)
+                        .filter(move |(_, p)| (x - p.point).dot(p.normal) < r + skin)
                         .map(move |(p, _)| (i, Partner::Plane(p as u32)));
                     let near_walls = walls
                         .iter()
@@ -284,6 +300,24 @@ impl NeighbourSearch {
     }
 }
 
+/// Whether bodies whose two largest moves since the list was made are `moves` (largest first)
+/// call for a new list, in a world with `mesh_walls` or not (see
+/// [`NeighbourSearch::moved_too_far`]).
+pub(crate) fn bodies_moved_too_far(moves: [f64; 2], skin: f64, mesh_walls: bool) -> bool {
+    moves[0] + moves[1] > skin || (mesh_walls && moves[0] > 0.5 * skin)
+}
+
+/// The two largest of the square roots of `squared` (squared distances), largest first.
+pub(crate) fn largest_two(squared: impl ParallelIterator<Item = f64>) -> [f64; 2] {
+    let top = |a: [f64; 2], b: [f64; 2]| {
+        let mut all = [a[0], a[1], b[0], b[1]];
+        all.sort_unstable_by(|x, y| y.total_cmp(x));
+        [all[0], all[1]]
+    };
+    let [first, second] = squared.map(|d| [d, 0.0]).reduce(|| [0.0, 0.0], top);
+    [first.sqrt(), second.sqrt()]
+}
+
 /// The farthest any point of the wall's bounding box has moved between two poses: |(R₁ − R₀)p +
 /// t₁ − t₀| is convex in p, so its maximum over the box is at a corner.
 fn wall_displacement(wall: &MeshWall, then: &WallPose, now: &WallPose) -> f64 {
@@ -298,4 +332,141 @@ fn wall_displacement(wall: &MeshWall, then: &WallPose, now: &WallPose) -> f64 {
             (now.to_world(corner) - then.to_world(corner)).length()
         })
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::BodyInit;
+    use crate::material::MaterialId;
+    use crate::math::DQuat;
+    use crate::rng::SplitMix64;
+    use crate::shape::Sphere;
+
+    /// `n` spheres of radius 1 scattered in a box of side `side` above the plane z = 0.
+    fn scattered(n: usize, side: f64, rng: &mut SplitMix64) -> (Bodies, Vec<Shape>) {
+        let mut bodies = Bodies::default();
+        for id in 0..n as u64 {
+            let position = DVec3::new(
+                rng.next_f64() * side,
+                rng.next_f64() * side,
+                1.0 + rng.next_f64() * side,
+            );
+            let init = BodyInit {
+                shape: Shape::Sphere(Sphere::new(1.0)),
+                material: MaterialId::default(),
+                position,
+                orientation: DQuat::IDENTITY,
+                velocity: DVec3::ZERO,
+                angular_velocity: DVec3::ZERO,
+            };
+            bodies.push(
+                id,
+                0,
+                MaterialId::default(),
+                1.0,
+                1.0,
+                1.0,
+                DVec3::ONE,
+                &init,
+            );
+        }
+        (bodies, vec![Shape::Sphere(Sphere::new(1.0))])
+    }
+
+    /// The pairs and plane contacts that touch now, each as the list names it.
+    fn touching(bodies: &Bodies, planes: &[Plane]) -> Vec<(u32, Partner)> {
+        let (x, r) = (&bodies.position, &bodies.bounding_radius);
+        let mut found = Vec::new();
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                if (x[i] - x[j]).length() <= r[i] + r[j] {
+                    found.push((i as u32, Partner::Body(j as u32)));
+                }
+            }
+            for (p, plane) in planes.iter().enumerate() {
+                if (x[i] - plane.point).dot(plane.normal) <= r[i] {
+                    found.push((i as u32, Partner::Plane(p as u32)));
+                }
+            }
+        }
+        found
+    }
+
+    /// A list made when the bodies' two largest moves add up to a skin holds every contact
+    /// (against brute force, at each of 400 steps of a body running through creeping ones,
+    /// overlapping them as it goes): the same contacts as the old rule (a list made again once
+    /// any body moved half a skin), with the list made less often.
+    #[test]
+    fn the_list_holds_every_contact_until_the_two_largest_moves_add_up_to_a_skin() {
+        let mut rng = SplitMix64::new(11);
+        let (mut bodies, shapes) = scattered(300, 16.0, &mut rng);
+        let floor = Plane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            material: MaterialId::default(),
+        };
+        let planes = [floor];
+        let skin = 0.2;
+        let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, skin);
+        let mut list: Vec<(u32, Partner)> = Vec::new();
+        let mut made = 0;
+        // The old rule's count: the list made again once any body had moved half a skin.
+        let (mut old_made, mut old_reference) = (0, Vec::new());
+        let mut run = DVec3::new(1.0, 0.3, 0.1).normalize() * 0.05;
+        for step in 0..400 {
+            // Every body creeps; body 0 runs straight through them, turned back at the box.
+            for i in 1..bodies.len() {
+                let d = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 2.0 - 1.0;
+                bodies.position[i] += d.normalize_or_zero() * 0.002;
+            }
+            let next = bodies.position[0] + run;
+            let outside = next.cmplt(DVec3::new(0.0, 0.0, 1.0)) | next.cmpgt(DVec3::splat(16.0));
+            run = DVec3::select(outside, -run, run);
+            bodies.position[0] += run;
+            let moved = |x: &[DVec3], x0: &[DVec3]| {
+                x0.is_empty()
+                    || x.iter()
+                        .zip(x0)
+                        .any(|(a, b)| (*a - *b).length() > 0.5 * skin)
+            };
+            if moved(&bodies.position, &old_reference) {
+                old_made += 1;
+                old_reference = bodies.position.clone();
+            }
+            if let Some(new) = search.update(&bodies, &shapes, &planes, &[]) {
+                list = new.iter().map(|c| (c.a, c.partner)).collect();
+                made += 1;
+            }
+            let ids = &bodies.id;
+            for (a, b) in touching(&bodies, &planes) {
+                let (a, b) = match b {
+                    Partner::Body(j) if ids[j as usize] < ids[a as usize] => (j, Partner::Body(a)),
+                    _ => (a, b),
+                };
+                assert!(
+                    list.contains(&(a, b)),
+                    "step {step}: {a} and {b:?} touch, not listed"
+                );
+            }
+        }
+        assert!(
+            made < old_made,
+            "made {made} times, {old_made} by the old rule"
+        );
+        assert!(
+            !touching(&bodies, &planes).is_empty(),
+            "nothing touched: no test"
+        );
+    }
+
+    #[test]
+    fn the_two_largest_moves_are_found() {
+        let squared = [4.0, 0.25, 9.0, 1.0, 0.0];
+        assert_eq!(largest_two(squared.into_par_iter()), [3.0, 2.0]);
+        assert_eq!(largest_two(Vec::<f64>::new().into_par_iter()), [0.0, 0.0]);
+        assert!(bodies_moved_too_far([0.15, 0.06], 0.2, false));
+        assert!(!bodies_moved_too_far([0.15, 0.04], 0.2, false));
+        assert!(bodies_moved_too_far([0.15, 0.04], 0.2, true));
+    }
 }

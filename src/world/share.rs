@@ -10,6 +10,7 @@ use super::World;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
+use crate::step::candidates::{bodies_moved_too_far, largest_two};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -235,13 +236,15 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
-    /// Whether the neighbour search will make its list again at the next step (a body would
-    /// have moved half a skin since the list was made, predicted as in
-    /// [`World::predicted_largest_move`]). Walls move alike in every share, and are left out.
+    /// Whether the neighbour search will make its list again at the next step (its bodies'
+    /// moves since the list was made, predicted as in [`World::predicted_largest_move`], would
+    /// call for it: `step::candidates::bodies_moved_too_far`). Walls move alike in every share,
+    /// and are left out.
     pub fn search_expires_next_step(&self) -> bool {
         match self.search.reference_positions() {
             Some(from) if from.len() == self.bodies.len() => {
-                self.predicted_largest_move(from) > 0.5 * self.skin()
+                let moves = largest_two(self.predicted_moves_squared(from));
+                bodies_moved_too_far(moves, self.skin(), !self.mesh_walls.is_empty())
             }
             _ => true,
         }
@@ -257,16 +260,24 @@ impl World {
     /// after the next step's drift, predicted from the forces of the last evaluation. Shares are
     /// redrawn, all at once, before it would reach the distance their ghost layer allows.
     pub fn predicted_largest_move(&self, from: &[DVec3]) -> f64 {
+        self.predicted_moves_squared(from)
+            .map(f64::sqrt)
+            .reduce(|| 0.0, f64::max)
+    }
+
+    /// Each body's squared distance from `from` (a place per body) after the next step's drift,
+    /// predicted from the forces of the last evaluation.
+    fn predicted_moves_squared<'a>(
+        &'a self,
+        from: &'a [DVec3],
+    ) -> impl IndexedParallelIterator<Item = f64> + 'a {
         let (b, h, dt) = (&self.bodies, 0.5 * self.time_step, self.time_step);
         assert_eq!(from.len(), b.len(), "a place per body");
         let g = self.gravity;
-        (0..b.len())
-            .into_par_iter()
-            .map(|i| {
-                let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
-                (b.position[i] + v * dt - from[i]).length()
-            })
-            .reduce(|| 0.0, f64::max)
+        (0..b.len()).into_par_iter().map(move |i| {
+            let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
+            (b.position[i] + v * dt - from[i]).length_squared()
+        })
     }
 
     /// Makes this share's running totals (energy dissipated, inserted and removed, the work of
