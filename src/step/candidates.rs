@@ -307,14 +307,22 @@ pub(crate) fn bodies_moved_too_far(moves: [f64; 2], skin: f64, mesh_walls: bool)
     moves[0] + moves[1] > skin || (mesh_walls && moves[0] > 0.5 * skin)
 }
 
-/// The two largest of the square roots of `squared` (squared distances), largest first.
+/// The two largest of the square roots of `squared` (squared distances), largest first. Run
+/// every step over every body: two comparisons a body.
 pub(crate) fn largest_two(squared: impl ParallelIterator<Item = f64>) -> [f64; 2] {
-    let top = |a: [f64; 2], b: [f64; 2]| {
-        let mut all = [a[0], a[1], b[0], b[1]];
-        all.sort_unstable_by(|x, y| y.total_cmp(x));
-        [all[0], all[1]]
+    // `top` with `d` among its two largest (a NaN is passed over, as by a comparison).
+    let add = |top: [f64; 2], d: f64| {
+        if d > top[0] {
+            [d, top[0]]
+        } else if d > top[1] {
+            [top[0], d]
+        } else {
+            top
+        }
     };
-    let [first, second] = squared.map(|d| [d, 0.0]).reduce(|| [0.0, 0.0], top);
+    let [first, second] = squared
+        .fold(|| [0.0, 0.0], add)
+        .reduce(|| [0.0, 0.0], |a, b| add(add(a, b[0]), b[1]));
     [first.sqrt(), second.sqrt()]
 }
 
@@ -465,6 +473,11 @@ mod tests {
         let squared = [4.0, 0.25, 9.0, 1.0, 0.0];
         assert_eq!(largest_two(squared.into_par_iter()), [3.0, 2.0]);
         assert_eq!(largest_two(Vec::<f64>::new().into_par_iter()), [0.0, 0.0]);
+        let many: Vec<f64> = (0..10_000).map(|k| ((k * 7919) % 10_007) as f64).collect();
+        assert_eq!(
+            largest_two(many.into_par_iter()),
+            [10_006f64.sqrt(), 10_005f64.sqrt()]
+        );
         assert!(bodies_moved_too_far([0.15, 0.06], 0.2, false));
         assert!(!bodies_moved_too_far([0.15, 0.04], 0.2, false));
         assert!(bodies_moved_too_far([0.15, 0.04], 0.2, true));
