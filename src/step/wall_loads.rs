@@ -6,6 +6,7 @@ use crate::math::DVec3;
 use crate::narrow_phase::ContactPoint;
 use crate::step::prefetch::prefetch;
 use crate::wall::{MeshWall, Plane, WallState};
+use rayon::prelude::*;
 
 /// The walls as they are: planes, mesh walls, each mesh wall's motion over the step and at its
 /// end (`None` for a fixed wall), and the time the mesh walls' poses are at.
@@ -32,7 +33,23 @@ pub struct WallLoads {
     pub work: f64,
     /// Power of the wall forces at the last evaluation (for the trapezoidal work integral).
     power: f64,
+    /// Each wall entry's share of this step (working memory of [`WallLoads::book`]).
+    #[serde(skip)]
+    shares: Vec<Share>,
 }
+
+/// What one wall entry adds to its wall's totals over a step.
+#[derive(Clone, Copy, Debug, Default)]
+struct Share {
+    /// The wall's number; `u32::MAX` for an entry that adds nothing (apart, or a ghost's).
+    wall: u32,
+    impulse: DVec3,
+    angular_impulse: DVec3,
+    power: f64,
+}
+
+/// Wall entries per parallel work item of [`WallLoads::book`].
+const SHARES_PER_ITEM: usize = 512;
 
 impl WallLoads {
     /// Books the contacts' reactions on the walls over the step `dt` (0 for a fresh evaluation,
@@ -40,64 +57,84 @@ impl WallLoads {
     /// walls are where they are. A ghost's contacts are left to its owner (`Bodies::ghost`).
     /// `at`: where the bodies are, which the contact points the store does not keep are found
     /// again from.
+    ///
+    /// Each entry's share (its contact point found again, its force and moment read) is worked
+    /// out in parallel; the shares are then added up one by one in entry order, the same sums
+    /// as a single loop's, so the totals have the same bits for any thread count.
     pub fn book(&mut self, store: &ContactStore, at: Placement, walls: WallsNow, dt: f64) {
-        let bodies = at.bodies;
-        let WallsNow {
-            planes,
-            meshes: walls,
-            states: wall_states,
-            time: wall_time,
-        } = walls;
-        let count = planes.len() + walls.len();
+        let count = at.planes.len() + walls.meshes.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
-        let (keys, touching) = (store.keys(), store.touching());
-        let load = store.loads();
-        let mut power = 0.0;
         let entries = store.wall_entries();
-        for (n, &e) in entries.iter().enumerate() {
-            // The wall entries are scattered over the store, which the contact loop has passed
-            // over since: ask for an entry's lines some entries ahead (2.5 % of the 65,000-sphere
-            // step went to waiting for them).
-            if let Some(&ahead) = entries.get(n + PREFETCH_AHEAD) {
-                let ahead = ahead as usize;
-                prefetch(&touching[ahead]);
-                prefetch(&keys[ahead]);
-                prefetch(&load[ahead]);
-            }
-            let e = e as usize;
-            if !touching[e] || !bodies.counts(keys[e].a as usize) {
-                continue;
-            }
-            // For a wall partner the load's second moment is the law's couple on the body.
-            let (f, torque) = (load[e].force, load[e].torque_b);
-            let ContactPoint {
-                point: p,
-                normal: n,
-                ..
-            } = store.contact_point(e, at);
-            let (w, centre) = match keys[e].partner {
-                Partner::Plane(k) => (k as usize, planes[k as usize].point),
-                Partner::Mesh(m) => {
-                    let m = m as usize;
-                    let centre = match &wall_states[m] {
-                        // Fixed walls report torques about the origin of their reference placement.
-                        None => walls[m].motion.reference_point(wall_time),
-                        Some([_, at_end]) => {
-                            power += f.dot(at_end.surface_velocity(p, n))
-                                + torque.dot(at_end.angular_velocity);
-                            at_end.centre
-                        }
-                    };
-                    (planes.len() + m, centre)
+        entries
+            .par_iter()
+            .enumerate()
+            .with_min_len(SHARES_PER_ITEM)
+            .map(|(n, &e)| {
+                // The wall entries are scattered over the store, which the contact loop has
+                // passed over since: ask for an entry's lines some entries ahead (2.5 % of the
+                // 65,000-sphere step went to waiting for them).
+                if let Some(&ahead) = entries.get(n + PREFETCH_AHEAD) {
+                    let ahead = ahead as usize;
+                    prefetch(&store.touching()[ahead]);
+                    prefetch(&store.keys()[ahead]);
+                    prefetch(&store.loads()[ahead]);
                 }
-                Partner::Body(_) => unreachable!("wall entries have wall partners"),
-            };
-            self.impulse[w] -= f * dt;
-            self.angular_impulse[w] -= ((p - centre).cross(f) + torque) * dt;
+                share(store, e as usize, at, walls, dt)
+            })
+            .collect_into_vec(&mut self.shares);
+        let mut power = 0.0;
+        for s in self.shares.iter().filter(|s| s.wall != u32::MAX) {
+            let w = s.wall as usize;
+            self.impulse[w] -= s.impulse;
+            self.angular_impulse[w] -= s.angular_impulse;
+            power += s.power;
         }
         // Trapezoidal rule over the step.
         self.work += 0.5 * dt * (self.power + power);
         self.power = power;
+    }
+}
+
+/// What wall entry `e` adds to its wall's totals over the step `dt` (see [`WallLoads::book`]).
+#[inline]
+fn share(store: &ContactStore, e: usize, at: Placement, walls: WallsNow, dt: f64) -> Share {
+    let (key, load) = (store.keys()[e], store.loads()[e]);
+    if !store.touching()[e] || !at.bodies.counts(key.a as usize) {
+        return Share {
+            wall: u32::MAX,
+            ..Share::default()
+        };
+    }
+    // For a wall partner the load's second moment is the law's couple on the body.
+    let (f, torque) = (load.force, load.torque_b);
+    let ContactPoint {
+        point: p,
+        normal: n,
+        ..
+    } = store.contact_point(e, at);
+    let mut power = 0.0;
+    let (w, centre) = match key.partner {
+        Partner::Plane(k) => (k as usize, walls.planes[k as usize].point),
+        Partner::Mesh(m) => {
+            let m = m as usize;
+            let centre = match &walls.states[m] {
+                // Fixed walls report torques about the origin of their reference placement.
+                None => walls.meshes[m].motion.reference_point(walls.time),
+                Some([_, at_end]) => {
+                    power =
+                        f.dot(at_end.surface_velocity(p, n)) + torque.dot(at_end.angular_velocity);
+                    at_end.centre
+                }
+            };
+            (walls.planes.len() + m, centre)
+        }
+        Partner::Body(_) => unreachable!("wall entries have wall partners"),
+    };
+    Share {
+        wall: w as u32,
+        impulse: f * dt,
+        angular_impulse: ((p - centre).cross(f) + torque) * dt,
+        power,
     }
 }
