@@ -23,7 +23,9 @@ use crate::shape::Shape;
 use crate::wall::Plane;
 use rayon::prelude::*;
 
+mod relocate;
 mod transfer;
+use relocate::GONE;
 pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
 
 /// A body and a partner that may touch before the next neighbour search.
@@ -97,64 +99,6 @@ struct Persistent {
 }
 
 impl Persistent {
-    /// Moves entry `from` to `to` (its state; the kind is set by the caller).
-    fn move_entry(&mut self, from: usize, to: usize) {
-        if from == to {
-            return;
-        }
-        self.key[to] = self.key[from];
-        self.touching[to] = self.touching[from];
-        if !self.geometry.is_empty() {
-            self.geometry[to] = self.geometry[from];
-        }
-        self.history[to] = self.history[from];
-        if !self.spin.is_empty() {
-            self.spin[to] = self.spin[from];
-        }
-    }
-
-    /// Makes entry `k` a new contact under `key`, touching nothing yet.
-    fn reset_entry(&mut self, k: usize, key: ContactKey) {
-        self.key[k] = key;
-        self.touching[k] = false;
-        if let Some(g) = self.geometry.get_mut(k) {
-            *g = ContactPoint::default();
-        }
-        self.history[k] = History::default();
-        if !self.spin.is_empty() {
-            self.spin[k] = SpinHistory::default();
-        }
-    }
-
-    fn truncate(&mut self, len: usize) {
-        self.key.truncate(len);
-        self.kind.truncate(len);
-        self.touching.truncate(len);
-        self.geometry.truncate(len);
-        self.history.truncate(len);
-        self.spin.truncate(len);
-    }
-
-    /// Grows (or shrinks) the arrays to `len` entries, with geometries and spin histories if the
-    /// `layout` keeps them; new entries are filled by the caller.
-    fn resize(&mut self, len: usize, layout: StoreLayout) {
-        let key = ContactKey {
-            a: 0,
-            partner: Partner::Body(0),
-            region: 0,
-        };
-        resize_tight(&mut self.key, len, key);
-        resize_tight(&mut self.kind, len, PairKind::Single);
-        resize_tight(&mut self.touching, len, false);
-        if layout.geometry {
-            resize_tight(&mut self.geometry, len, ContactPoint::default());
-        }
-        resize_tight(&mut self.history, len, History::default());
-        if layout.spins {
-            resize_tight(&mut self.spin, len, SpinHistory::default());
-        }
-    }
-
     /// Energy held in the springs of entry `k`.
     fn stored_energy(&self, k: usize) -> f64 {
         self.history[k].stored_energy() + self.spin.get(k).map_or(0.0, SpinHistory::stored_energy)
@@ -183,6 +127,14 @@ pub struct ContactStore {
     incoming: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
+    /// Working memory of [`ContactStore::set_candidates`]: each candidate's first entry (when
+    /// some have several), where each old entry goes, and where the kept ones go, in order.
+    #[serde(skip)]
+    first_entry: Vec<u32>,
+    #[serde(skip)]
+    fates: Vec<u32>,
+    #[serde(skip)]
+    targets: Vec<u32>,
 }
 
 /// Which arrays a world's store keeps beside those every entry has: what its bodies and walls can
@@ -232,19 +184,15 @@ impl ContactStore {
     ///
     /// `layout`: which arrays besides the keys and histories the entries keep.
     ///
-    /// The merge is done in place, with no second copy of the entries: the entries that stay are
-    /// first moved down over those that go (front to back), then spread out to their new places
-    /// with the new ones between them (back to front). Both keep every entry at or before
-    /// (resp. after) where it was read, so nothing is overwritten before it is moved.
+    /// The merge is done in place, with no second copy of the entries, in two parallel passes
+    /// (`store/relocate.rs`): where each old entry goes, found block by block; then each array
+    /// moved there (the arrays side by side).
     pub fn set_candidates(
         &mut self,
         candidates: &[Candidate],
         bodies: &Bodies,
         layout: StoreLayout,
     ) -> f64 {
-        let StoreLayout {
-            geometry, volumes, ..
-        } = layout;
         let ids = &bodies.id;
         debug_assert!(candidates
             .windows(2)
@@ -252,6 +200,7 @@ impl ContactStore {
         // The new keys, in order, are made on the fly from the candidates (a list of them would
         // cost 20 bytes an entry at the store's peak).
         self.regional.clear();
+        self.first_entry.clear();
         let mut count = 0;
         for c in candidates {
             if c.kind == PairKind::Regional {
@@ -259,79 +208,91 @@ impl ContactStore {
             }
             count += c.entries();
         }
+        if !self.regional.is_empty() {
+            let mut next = 0;
+            self.first_entry.extend(candidates.iter().map(|c| {
+                let first = next;
+                next += c.entries() as u32;
+                first
+            }));
+        }
         let e = &mut self.entries;
+        let old = e.key.len();
+        // An array the layout now asks for starts with defaults for the old entries.
         if layout.spins {
-            e.spin.resize(e.key.len(), SpinHistory::default());
+            e.spin.resize(old, SpinHistory::default());
         } else {
             e.spin.clear();
         }
-        if geometry {
-            e.geometry.resize(e.key.len(), ContactPoint::default());
+        if layout.geometry {
+            e.geometry.resize(old, ContactPoint::default());
         } else {
             e.geometry.clear();
         }
         // What the last evaluation gave goes along with its entry (read between steps: the
         // ledger, the outputs), so the store tells the same story after a new list as before.
-        self.load.resize(e.key.len(), Load::default());
-        self.report.resize(e.key.len(), LawReport::default());
-        if volumes {
-            self.volume.resize(e.key.len(), None);
+        self.load.resize(old, Load::default());
+        self.report.resize(old, LawReport::default());
+        if layout.volumes {
+            self.volume.resize(old, None);
         } else {
             self.volume.clear();
         }
-        // 1. Keep the entries whose key is still a candidate, in order, moved down.
+        // 1. Where each old entry goes; the energy held by those that go.
+        let fates = &mut self.fates;
+        relocate::find_fates(&e.key, candidates, &self.first_entry, ids, fates);
         let mut lost = 0.0;
-        let mut kept = 0;
-        let mut new_keys = candidates.iter().flat_map(Candidate::keys).peekable();
-        for o in 0..e.key.len() {
-            let key = e.key[o];
-            let order = key.order(ids);
-            while new_keys.next_if(|(k, _)| k.order(ids) < order).is_some() {}
-            if new_keys.peek().is_some_and(|(k, _)| *k == key) {
-                e.move_entry(o, kept);
-                self.load[kept] = self.load[o];
-                self.report[kept] = self.report[o];
-                if volumes {
-                    self.volume[kept] = self.volume[o];
-                }
-                kept += 1;
-            } else if e.touching[o] && bodies.counts(key.a as usize) {
+        for (o, _) in fates.iter().enumerate().filter(|(_, &f)| f == GONE) {
+            if e.touching[o] && bodies.counts(e.key[o].a as usize) {
                 lost += e.stored_energy(o);
             }
         }
-        e.truncate(kept);
-        self.load.truncate(kept);
-        self.report.truncate(kept);
-        self.volume.truncate(kept);
-        // 2. Spread them to their new places from the back, new entries between them.
-        e.resize(count, layout);
-        resize_tight(&mut self.load, count, Load::default());
-        resize_tight(&mut self.report, count, LawReport::default());
-        if volumes {
-            resize_tight(&mut self.volume, count, None);
-        }
-        let mut o = kept;
-        let new_keys = candidates.iter().flat_map(Candidate::keys).rev();
-        for (k, (key, kind)) in (0..count).rev().zip(new_keys) {
-            if o > 0 && e.key[o - 1] == key {
-                o -= 1;
-                e.move_entry(o, k);
-                self.load[k] = self.load[o];
-                self.report[k] = self.report[o];
-                if volumes {
-                    self.volume[k] = self.volume[o];
+        self.targets.clear();
+        self.targets
+            .extend(fates.iter().copied().filter(|&f| f != GONE));
+        // 2. The keys and kinds written from the candidates, every other array moved to its
+        // entries' new places, the arrays side by side.
+        let (fates, targets) = (&self.fates[..], &self.targets[..]);
+        let Persistent {
+            key,
+            kind,
+            touching,
+            geometry,
+            history,
+            spin,
+        } = e;
+        let (load, report, volume) = (&mut self.load, &mut self.report, &mut self.volume);
+        rayon::scope(|s| {
+            s.spawn(|_| relocate::relocate(load, fates, targets, count, Load::default()));
+            s.spawn(|_| relocate::relocate(history, fates, targets, count, History::default()));
+            s.spawn(|_| {
+                relocate::relocate(report, fates, targets, count, LawReport::default());
+                relocate::relocate(touching, fates, targets, count, false);
+                let unset = ContactKey {
+                    a: 0,
+                    partner: Partner::Body(0),
+                    region: 0,
+                };
+                resize_tight(key, count, unset);
+                resize_tight(kind, count, PairKind::Single);
+                let new = candidates.iter().flat_map(Candidate::keys);
+                for ((key, kind), (new_key, new_kind)) in key.iter_mut().zip(kind.iter_mut()).zip(new) {
+                    *key = new_key;
+                    *kind = new_kind;
                 }
-            } else {
-                e.reset_entry(k, key);
-                self.load[k] = Load::default();
-                self.report[k] = LawReport::default();
-                if volumes {
-                    self.volume[k] = None;
-                }
+            });
+            if layout.geometry {
+                s.spawn(|_| {
+                    relocate::relocate(geometry, fates, targets, count, ContactPoint::default())
+                });
             }
-            e.kind[k] = kind;
-        }
-        debug_assert_eq!(o, 0);
+            if layout.spins {
+                s.spawn(|_| relocate::relocate(spin, fates, targets, count, SpinHistory::default()));
+            }
+            if layout.volumes {
+                s.spawn(|_| relocate::relocate(volume, fates, targets, count, None));
+            }
+        });
         self.index(ids);
         lost
     }
