@@ -1,9 +1,10 @@
 use super::{BroadPhase, CellGrid, Pair};
 use crate::math::{Aabb, DVec3};
+use rayon::prelude::*;
 
 mod region;
 
-use region::{Endpoint, Partner, Region};
+use region::{Partner, Region};
 
 /// Sweep and prune with insertion-sorted endpoint lists: the Linked Linear List (LLL) of
 /// Schinner (1999, Granular Matter 2:35) as used for DEM by Muth, Eberhard & Luding, and the
@@ -29,16 +30,17 @@ use region::{Endpoint, Partner, Region};
 /// to infinity), short and cache resident, so a call costs `O(n)` at a fixed density.
 ///
 /// **A call** (after the first): each box's range of regions is recomputed (with a hysteresis of
-/// 1/16 region, so that boxes vibrating across a boundary do not leave and re-enter at every
-/// call). Then region by region — regions are independent, and each is touched once while it is
-/// in cache: (1) a box that left the region is *removed*, with the lists still in the previous
-/// call's state: its pairs there leave, and its endpoints stay as inert "dead" entries until they
-/// are an eighth of the lists, when one pass sweeps them out; (2) the new coordinates are written
-/// into the lists and the lists are repaired by insertion sort, with their events; (3) a box that
-/// entered the region is *inserted*: its pairs with the members are found by testing their new
-/// boxes, and its endpoints are merged into the now sorted lists. A removal or insertion costs a
-/// pass over the region's members; boxes cross region boundaries rarely (a fraction
-/// `motion / region side` of them per call), so this is a small part of the cost.
+/// 1/16 region, so that boxes vibrating across a boundary do not leave and re-enter at every call).
+/// Then region by region — regions are independent, so they are updated side by side on the
+/// threads, and each is touched once while it is in cache: (1) a box that left the region is
+/// *removed*, with the lists still in the previous call's state: its pairs there leave, and its
+/// endpoints stay as inert "dead" entries until they are an eighth of the lists, when one pass
+/// sweeps them out; (2) the new coordinates are written into the lists and the lists are repaired
+/// by insertion sort, with their events; (3) a box that entered the region is *inserted*: its pairs
+/// with the members are found by testing their new boxes, and its endpoints are merged into the now
+/// sorted lists. A removal or insertion costs a pass over the region's members; boxes cross region
+/// boundaries rarely (a fraction `motion / region side` of them per call), so this is a small part
+/// of the cost.
 ///
 /// **Tie rule.** The lists are ordered by `(value, kind)` with a begin before an end at equal
 /// values. Then "begin of `a` precedes end of `b`" is exactly `a.min <= b.max`, so two intervals
@@ -88,8 +90,11 @@ use region::{Endpoint, Partner, Region};
 /// or, when estimated cheaper, a [`CellGrid`]. A few bodies teleporting are just removals and
 /// insertions.
 ///
-/// No allocation per call in steady state: all buffers are kept and reused. Everything runs in a
-/// fixed order, so the result and the internal state are deterministic.
+/// A region's events (pairs starting or stopping to overlap there) are kept with it and applied
+/// to the candidate set once every region is done, region by region in the order of a single
+/// pass, so the result and the internal state are the same for any thread count.
+///
+/// No allocation per call in steady state: all buffers are kept and reused.
 #[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
     /// Boxes a region is made for at a rebuild; 0 for [`DEFAULT_BODIES_PER_REGION`].
@@ -116,11 +121,9 @@ pub struct SweepAndPrune {
     /// `(region, body)` of the boxes leaving and entering regions in this call.
     leaving: Vec<(u32, u32)>,
     entering: Vec<(u32, u32)>,
-    /// Scratch: bodies of one region, renumbering, endpoints and the sweep of a rebuild.
-    bodies: Vec<u32>,
-    remap: Vec<u32>,
-    endpoints: Vec<Endpoint>,
-    gathered: Vec<Aabb>,
+    /// Working memory of the updates' work items ([`WORK_ITEMS`]).
+    scratch: Vec<region::Scratch>,
+    /// Scratch of a rebuild's sweep.
     sweep_axis: Vec<u8>,
     active: Vec<(u32, [f64; 4])>,
     active_slot: Vec<u32>,
@@ -491,54 +494,62 @@ impl SweepAndPrune {
             return false;
         }
 
-        // Region by region (regions are independent, and each is touched once while in cache):
-        // (1) removals, in the previous call's state; (2) the LLL; (3) insertions, in the new
-        // sorted state.
+        // Region by region (regions are independent, and each is touched once while in cache),
+        // the regions side by side: (1) removals, in the previous call's state; (2) the LLL; (3)
+        // insertions, in the new sorted state. Each region keeps its overlap events, which are
+        // then applied to the candidate set region by region, in the order a single pass would.
         self.leaving.sort_unstable();
         self.entering.sort_unstable();
-        let (mut leaving, mut entering) = (&self.leaving[..], &self.entering[..]);
+        let (leaving, entering) = (&self.leaving[..], &self.entering[..]);
+        let of_region = |list: &'_ [(u32, u32)], id: usize| {
+            let start = list.partition_point(|&(r, _)| (r as usize) < id);
+            let end = list.partition_point(|&(r, _)| (r as usize) <= id);
+            start..end
+        };
         let budget = self.rebuild_cost - work;
-        for (id, region) in self.regions.iter_mut().enumerate() {
-            let here = |l: &[(u32, u32)]| l.iter().take_while(|&&(r, _)| r as usize == id).count();
-            let leave = here(leaving);
-            if leave > 0 {
-                self.bodies.clear();
-                self.bodies
-                    .extend(leaving[..leave].iter().map(|&(_, body)| body));
-                leaving = &leaving[leave..];
-                region.remove(&self.bodies, &mut self.partners, &mut self.remap);
-            }
-            if region.len() > 0 {
-                region.refresh(boxes, &mut self.gathered);
-                for axis in 0..3 {
-                    let left = budget.saturating_sub(self.swaps);
-                    match region.sort(axis, &mut self.partners, left) {
-                        Some(swaps) => self.swaps += swaps,
-                        None => return false,
-                    }
+        let crowded = self.crowded;
+        let per_item = self.regions.len().div_ceil(WORK_ITEMS).max(1);
+        self.scratch.resize_with(WORK_ITEMS, Default::default);
+        let outcome = self
+            .regions
+            .par_chunks_mut(per_item)
+            .zip(self.scratch.par_iter_mut())
+            .enumerate()
+            .map(|(item, (regions, scratch))| {
+                let (mut swaps, mut regrid) = (0, false);
+                for (k, region) in regions.iter_mut().enumerate() {
+                    let id = item * per_item + k;
+                    let (leave, enter) = (of_region(leaving, id), of_region(entering, id));
+                    swaps += region.update(
+                        &leaving[leave],
+                        &entering[enter.clone()],
+                        boxes,
+                        budget.checked_sub(swaps)?,
+                        scratch,
+                    )?;
+                    regrid |= !enter.is_empty() && region.len() > crowded;
                 }
-            }
-            let enter = here(entering);
-            if enter > 0 {
-                self.bodies.clear();
-                self.bodies
-                    .extend(entering[..enter].iter().map(|&(_, body)| body));
-                entering = &entering[enter..];
-                region.insert(
-                    &self.bodies,
-                    boxes,
-                    &self.gathered,
-                    &mut self.partners,
-                    &mut self.endpoints,
-                );
-                if region.len() > self.crowded {
-                    self.regrid = true;
-                }
-            }
+                Some((swaps, regrid))
+            })
+            .try_reduce(|| (0, false), |a, b| Some((a.0 + b.0, a.1 || b.1)));
+        let Some((swaps, regrid)) = outcome else {
+            return false;
+        };
+        self.swaps = swaps;
+        if swaps > budget {
+            return false;
+        }
+        self.regrid |= regrid;
+        for region in &self.regions {
+            region::apply(&mut self.partners, &region.events);
         }
         true
     }
 }
+
+/// Parallel work items of an update, each a run of regions with working memory of its own (kept
+/// from call to call): enough to balance the threads, as regions differ in their work.
+const WORK_ITEMS: usize = 16;
 
 impl BroadPhase for SweepAndPrune {
     fn find_pairs(&mut self, boxes: &[Aabb], pairs: &mut Vec<Pair>) {

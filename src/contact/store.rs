@@ -276,7 +276,9 @@ impl ContactStore {
                 resize_tight(key, count, unset);
                 resize_tight(kind, count, PairKind::Single);
                 let new = candidates.iter().flat_map(Candidate::keys);
-                for ((key, kind), (new_key, new_kind)) in key.iter_mut().zip(kind.iter_mut()).zip(new) {
+                for ((key, kind), (new_key, new_kind)) in
+                    key.iter_mut().zip(kind.iter_mut()).zip(new)
+                {
                     *key = new_key;
                     *kind = new_kind;
                 }
@@ -287,7 +289,9 @@ impl ContactStore {
                 });
             }
             if layout.spins {
-                s.spawn(|_| relocate::relocate(spin, fates, targets, count, SpinHistory::default()));
+                s.spawn(|_| {
+                    relocate::relocate(spin, fates, targets, count, SpinHistory::default())
+                });
             }
             if layout.volumes {
                 s.spawn(|_| relocate::relocate(volume, fates, targets, count, None));

@@ -103,6 +103,22 @@ fn order(a: u32, b: u32) -> (u32, u32) {
     }
 }
 
+/// Two bodies start (`true`) or stop overlapping in one region: what a region's update finds,
+/// applied to the candidate set afterwards ([`apply`]), so that regions can be updated side by
+/// side.
+pub(super) type Event = (u32, u32, bool);
+
+/// Applies `events` to the candidate set, in order.
+pub(super) fn apply(partners: &mut [Vec<Partner>], events: &[Event]) {
+    for &(a, b, starts) in events {
+        if starts {
+            enter(partners, a, b);
+        } else {
+            leave(partners, a, b);
+        }
+    }
+}
+
 /// One more region in which bodies `a` and `b` overlap.
 #[inline]
 fn enter(partners: &mut [Vec<Partner>], a: u32, b: u32) {
@@ -164,6 +180,17 @@ pub(super) struct Region {
     /// values they last had: they never move again and make no events, and are swept out once
     /// they are a good part of the lists, so that a removal costs no pass over the lists.
     dead: usize,
+    /// The overlap events of the last update, in the order they were found.
+    pub events: Vec<Event>,
+}
+
+/// Working memory of one region's update (see [`Region::update`]).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Scratch {
+    bodies: Vec<u32>,
+    remap: Vec<u32>,
+    endpoints: Vec<Endpoint>,
+    gathered: Vec<Aabb>,
 }
 
 impl Region {
@@ -174,6 +201,7 @@ impl Region {
 
     pub fn clear(&mut self) {
         self.dead = 0;
+        self.events.clear();
         self.members.clear();
         self.rank.clear();
         for list in &mut self.lists {
@@ -279,9 +307,51 @@ impl Region {
         }
     }
 
+    /// One call's update of the region, its overlap events into [`Region::events`]: (1) the
+    /// bodies `leaving` it are removed, in the previous call's state; (2) the lists are repaired
+    /// by insertion sort after new values are read from `boxes`; (3) the bodies `entering` it are
+    /// inserted, in the new sorted state. `leaving` and `entering` are `(region, body)` pairs of
+    /// this region. Returns the swaps made, or `None` once they exceed `budget`.
+    pub fn update(
+        &mut self,
+        leaving: &[(u32, u32)],
+        entering: &[(u32, u32)],
+        boxes: &[Aabb],
+        budget: usize,
+        scratch: &mut Scratch,
+    ) -> Option<usize> {
+        self.events.clear();
+        if !leaving.is_empty() {
+            scratch.bodies.clear();
+            scratch.bodies.extend(leaving.iter().map(|&(_, body)| body));
+            self.remove(&scratch.bodies, &mut scratch.remap);
+        }
+        let mut swaps = 0;
+        if self.len() > 0 {
+            self.refresh(boxes, &mut scratch.gathered);
+            for axis in 0..3 {
+                swaps += self.sort(axis, budget.checked_sub(swaps)?)?;
+            }
+        }
+        if !entering.is_empty() {
+            scratch.bodies.clear();
+            scratch
+                .bodies
+                .extend(entering.iter().map(|&(_, body)| body));
+            let Scratch {
+                bodies,
+                endpoints,
+                gathered,
+                ..
+            } = scratch;
+            self.insert(bodies, boxes, gathered, endpoints);
+        }
+        Some(swaps)
+    }
+
     /// Removes the members `leaving` (global indices, each a member once), with the state of the
     /// previous call: every pair a leaver forms in this region leaves it.
-    pub fn remove(&mut self, leaving: &[u32], partners: &mut [Vec<Partner>], remap: &mut Vec<u32>) {
+    fn remove(&mut self, leaving: &[u32], remap: &mut Vec<u32>) {
         for &body in leaving {
             let Some(l) = self.members.iter().position(|&m| m == body) else {
                 debug_assert!(false, "body {body} leaves a region it is not in");
@@ -295,7 +365,7 @@ impl Region {
                     && overlap_on(&rl, rk, 1)
                     && overlap_on(&rl, rk, 2)
                 {
-                    leave(partners, body, other);
+                    self.events.push((body, other, false));
                 }
             }
             self.members[l] = DEAD;
@@ -350,7 +420,7 @@ impl Region {
     /// Writes the members' new coordinates into the lists (at their old places). `gathered` is
     /// scratch: the boxes are first copied in a tight loop (one random read per member, many in
     /// flight at once), then scattered.
-    pub fn refresh(&mut self, boxes: &[Aabb], gathered: &mut Vec<Aabb>) {
+    fn refresh(&mut self, boxes: &[Aabb], gathered: &mut Vec<Aabb>) {
         gathered.clear();
         gathered.extend(
             self.members
@@ -379,17 +449,13 @@ impl Region {
     /// Insertion sort of the list of `axis` after [`Self::refresh`], with the overlap events it
     /// implies. `None` once more than `budget` swaps were made (the state is then only fit for a
     /// rebuild).
-    pub fn sort(
-        &mut self,
-        axis: usize,
-        partners: &mut [Vec<Partner>],
-        budget: usize,
-    ) -> Option<usize> {
+    fn sort(&mut self, axis: usize, budget: usize) -> Option<usize> {
         let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
         let Region {
             members,
             lists,
             rank,
+            events,
             ..
         } = self;
         let list = &mut lists[axis];
@@ -415,10 +481,10 @@ impl Region {
                 {
                     if e.kind() == 0 {
                         // e's begin moves below p's end: they start overlapping (count 2 → 3).
-                        enter(partners, members[pl], members[el]);
+                        events.push((members[pl], members[el], true));
                     } else {
                         // e's end moves below p's begin: they stop overlapping (count 3 → 2).
-                        leave(partners, members[pl], members[el]);
+                        events.push((members[pl], members[el], false));
                     }
                 }
                 list.set(j, p);
@@ -444,12 +510,11 @@ impl Region {
     /// call, when list positions agree with the new coordinates: every pair an entrant forms
     /// with a member or another entrant enters this region. `gathered` holds the members' boxes
     /// from this call's [`Self::refresh`] (needed only if there are live members).
-    pub fn insert(
+    fn insert(
         &mut self,
         entering: &[u32],
         boxes: &[Aabb],
         gathered: &[Aabb],
-        partners: &mut [Vec<Partner>],
         scratch: &mut Vec<Endpoint>,
     ) {
         let old = self.members.len();
@@ -460,13 +525,13 @@ impl Region {
             if live {
                 for (&other, o) in self.members.iter().zip(gathered) {
                     if b.overlaps(o) && other != DEAD {
-                        enter(partners, body, other);
+                        self.events.push((body, other, true));
                     }
                 }
             }
             for &other in &entering[..n] {
                 if b.overlaps(&boxes[other as usize]) {
-                    enter(partners, body, other);
+                    self.events.push((body, other, true));
                 }
             }
         }
