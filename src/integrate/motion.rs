@@ -6,35 +6,36 @@ use crate::math::{DQuat, DVec3};
 use rayon::prelude::*;
 
 /// A body's position and motion in two cache lines: one random access per body and contact
-/// instead of one per quantity.
+/// instead of one per quantity. Position and radius come first, in the first line: the test of
+/// whether two spheres touch, made for every candidate pair at every step, reads only that line.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(64))]
 pub struct BodyMotion {
     pub position: DVec3,
+    /// Bounding radius (a sphere's radius).
+    pub radius: f64,
     /// Velocity and angular velocity over the step just taken (half-step values).
     pub velocity: DVec3,
     pub angular_velocity: DVec3,
     /// The same predicted at the end of the step.
     pub velocity_end: DVec3,
     pub angular_velocity_end: DVec3,
-    /// Bounding radius (a sphere's radius).
-    pub radius: f64,
 }
 
 // The layout `BodyMotion::as_rows` reads: sixteen `f64` in the order of the fields, no padding.
 const _: () = {
     use std::mem::{offset_of, size_of};
     assert!(size_of::<BodyMotion>() == 128 && size_of::<DVec3>() == 24);
-    assert!(offset_of!(BodyMotion, position) == 0 && offset_of!(BodyMotion, velocity) == 24);
-    assert!(offset_of!(BodyMotion, angular_velocity) == 48);
-    assert!(offset_of!(BodyMotion, velocity_end) == 72);
-    assert!(offset_of!(BodyMotion, angular_velocity_end) == 96);
-    assert!(offset_of!(BodyMotion, radius) == 120);
+    assert!(offset_of!(BodyMotion, position) == 0 && offset_of!(BodyMotion, radius) == 24);
+    assert!(offset_of!(BodyMotion, velocity) == 32);
+    assert!(offset_of!(BodyMotion, angular_velocity) == 56);
+    assert!(offset_of!(BodyMotion, velocity_end) == 80);
+    assert!(offset_of!(BodyMotion, angular_velocity_end) == 104);
 };
 
 impl BodyMotion {
-    /// The sixteen numbers in memory order (position, velocity, angular velocity, the same two
-    /// at the end of the step, radius) as four rows of four: what the four-wide sphere kernel
+    /// The sixteen numbers in memory order (position, radius, velocity, angular velocity, the
+    /// same two at the end of the step) as four rows of four: what the four-wide sphere kernel
     /// loads whole and transposes into lanes (`step::sphere_lanes`).
     #[inline(always)]
     pub fn as_rows(&self) -> &[[f64; 4]; 4] {

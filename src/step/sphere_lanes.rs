@@ -166,10 +166,10 @@ impl MotionLanes {
     #[inline(always)]
     fn gather(motion: [&BodyMotion; 4]) -> Self {
         let columns = |row: usize| F4::transpose(motion.map(|m| &m.as_rows()[row]));
-        let [x, y, z, vx] = columns(0);
-        let [vy, vz, wx, wy] = columns(1);
-        let [wz, ex, ey, ez] = columns(2);
-        let [fx, fy, fz, radius] = columns(3);
+        let [x, y, z, radius] = columns(0);
+        let [vx, vy, vz, wx] = columns(1);
+        let [wy, wz, ex, ey] = columns(2);
+        let [ez, fx, fy, fz] = columns(3);
         MotionLanes {
             position: V3 { x, y, z },
             velocity: V3 {
