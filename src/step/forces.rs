@@ -15,6 +15,7 @@ use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
 use crate::step::detect;
+use crate::step::plane_lanes;
 use crate::step::prefetch::prefetch;
 use crate::step::sphere_lanes;
 use crate::step::spheres::{self, EntryOut};
@@ -206,24 +207,27 @@ pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState
 /// Entries the contact loop sorts at a time (the length of a parallel work item).
 const RUN: usize = super::CHUNK;
 
-/// A run's entries sorted by what they need: sphere pairs that touch, sphere pairs that touched
-/// and no longer do, and the others (sphere pairs that stay apart need nothing). Whether a
+/// A run's entries sorted by what they need: sphere pairs that touch, spheres that touch a plane
+/// (in worlds where they take the four-wide path, see [`plane_lanes`]), those of either kind that
+/// touched and no longer do, and the others (those that stay apart need nothing). Whether a
 /// candidate touches is a coin toss, so the sort is done without a branch on it: every entry is
 /// written at the end of each list, and the list's length grows by one where it belongs there.
 struct Sorted {
     touching: [u32; RUN],
+    planes: [u32; RUN],
     ended: [u32; RUN],
     other: [u32; RUN],
-    lengths: [usize; 3],
+    lengths: [usize; 4],
 }
 
 impl Default for Sorted {
     fn default() -> Self {
         Sorted {
             touching: [0; RUN],
+            planes: [0; RUN],
             ended: [0; RUN],
             other: [0; RUN],
-            lengths: [0; 3],
+            lengths: [0; 4],
         }
     }
 }
@@ -234,16 +238,26 @@ impl Sorted {
     /// went to the stack and back at every entry.
     #[inline(never)]
     fn sort(&mut self, inputs: &LawInputs, ids: &EntryIds, state: &EntryState, run: Range<usize>) {
-        let [mut touching, mut ended, mut other] = [0; 3];
+        let [mut touching, mut planes, mut ended, mut other] = [0; 4];
+        // In a world of spheres and planes without rolling friction (no geometry kept, no spin
+        // histories), every single-contact entry is a sphere on a plane under the point law.
+        let planes_in_lanes = state.geometry.is_empty() && state.spin.is_empty();
         for k in run {
             let key = ids.key[k];
             if let Some(ahead) = ids.key.get(k + SORT_PREFETCH_AHEAD) {
                 prefetch_partner(inputs, ahead.partner);
             }
-            if ids.kind[k] == PairKind::Spheres {
+            let kind = ids.kind[k];
+            if kind == PairKind::Spheres {
                 let touches = spheres::overlaps(inputs, key);
                 self.touching[touching] = k as u32;
                 touching += touches as usize;
+                self.ended[ended] = k as u32;
+                ended += (!touches & state.touching[k]) as usize;
+            } else if planes_in_lanes && kind == PairKind::Single {
+                let touches = plane_lanes::touches(inputs, key.a, key.partner);
+                self.planes[planes] = k as u32;
+                planes += touches as usize;
                 self.ended[ended] = k as u32;
                 ended += (!touches & state.touching[k]) as usize;
             } else {
@@ -251,19 +265,23 @@ impl Sorted {
                 other += 1;
             }
         }
-        self.lengths = [touching, ended, other];
+        self.lengths = [touching, planes, ended, other];
     }
 
     fn touching(&self) -> &[u32] {
         &self.touching[..self.lengths[0]]
     }
 
+    fn planes(&self) -> &[u32] {
+        &self.planes[..self.lengths[1]]
+    }
+
     fn ended(&self) -> &[u32] {
-        &self.ended[..self.lengths[1]]
+        &self.ended[..self.lengths[2]]
     }
 
     fn other(&self) -> &[u32] {
-        &self.other[..self.lengths[2]]
+        &self.other[..self.lengths[3]]
     }
 }
 
@@ -301,6 +319,14 @@ fn evaluate_sorted(
         for &k in fours.remainder() {
             let k = k as usize;
             spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
+        }
+        let mut fours = sorted.planes().chunks_exact(4);
+        for four in &mut fours {
+            let four = std::array::from_fn(|i| four[i] as usize);
+            plane_lanes::touching_planes(inputs, ids, state, four, dt);
+        }
+        for &k in fours.remainder() {
+            plane_lanes::one_by_one(inputs, ids, state, k as usize, dt);
         }
     }
     for &k in sorted.ended() {

@@ -14,6 +14,7 @@
 pub mod candidates;
 pub mod detect;
 pub mod forces;
+pub mod plane_lanes;
 mod prefetch;
 pub mod space_order;
 pub mod sphere_lanes;

@@ -102,7 +102,7 @@ unsafe fn with_avx512(
 }
 
 /// The law's numbers of the four lanes.
-struct Laws {
+pub(super) struct Laws {
     hertz: M4,
     /// E* under Hertz; the spring's stiffness under the linear law.
     youngs_modulus: F4,
@@ -116,7 +116,7 @@ struct Laws {
 
 impl Laws {
     #[inline(always)]
-    fn gather(law: [&PairLaw; 4]) -> Self {
+    pub(super) fn gather(law: [&PairLaw; 4]) -> Self {
         // Most groups share one law (a scene has few materials): its numbers are then loaded
         // once each and broadcast, not gathered lane by lane and shuffled together, which keeps
         // about fifty loads and shuffles off the kernel's vector units.
@@ -153,18 +153,18 @@ impl Laws {
 
 /// The packed motion of four bodies, lane by lane: each body's two cache lines loaded whole and
 /// transposed (the numbers themselves, so the same bits as gathering them one by one).
-struct MotionLanes {
-    position: V3,
-    velocity: V3,
-    angular_velocity: V3,
-    velocity_end: V3,
-    angular_velocity_end: V3,
-    radius: F4,
+pub(super) struct MotionLanes {
+    pub position: V3,
+    pub velocity: V3,
+    pub angular_velocity: V3,
+    pub velocity_end: V3,
+    pub angular_velocity_end: V3,
+    pub radius: F4,
 }
 
 impl MotionLanes {
     #[inline(always)]
-    fn gather(motion: [&BodyMotion; 4]) -> Self {
+    pub(super) fn gather(motion: [&BodyMotion; 4]) -> Self {
         let columns = |row: usize| F4::transpose(motion.map(|m| &m.as_rows()[row]));
         let [x, y, z, radius] = columns(0);
         let [vx, vy, vz, wx] = columns(1);
@@ -229,11 +229,7 @@ fn kernel(
         let (p, q) = pair[i];
         inputs.laws.get(bodies.material[p], bodies.material[q])
     }));
-    let history: [&History; 4] = each(|i| &state.history[entries[i]]);
-    let old_spring = V3::gather(|i| history[i].tangential_spring);
-    let old_kt = scalars(&|i| history[i].tangential_stiffness);
-    let previous_damper = V3::gather(|i| history[i].damper_force.as_dvec3());
-    let (zero, half, dt4) = (F4::splat(0.0), F4::splat(0.5), F4::splat(dt));
+    let (zero, half) = (F4::splat(0.0), F4::splat(0.5));
 
     // The narrow phase (narrow_phase::overlapping_spheres).
     let d = xa - xb;
@@ -258,21 +254,80 @@ fn kernel(
     let inverse = F4::splat(1.0) / (radius_sum * mass_sum);
     let effective_radius = ra * rb * mass_sum * inverse;
     let effective_mass = mass_a * mass_b * radius_sum * inverse;
+    // The dashpots' bounds (DashpotLimit::of_spheres, on the world's step whatever `dt` the
+    // histories advance by).
+    let tangential_mass = F4::splat(TANGENTIAL_MASS_SHARE) * effective_mass;
+    let contacts = PointContacts {
+        normal,
+        overlap,
+        relative: va - vb,
+        relative_end: va_end - vb_end,
+        effective_radius,
+        effective_mass,
+        limit: [
+            dashpot_limit(inputs, effective_mass),
+            dashpot_limit(inputs, tangential_mass),
+        ],
+    };
+    let force = point_law(state, entries, &law, &contacts, dt);
+    let torque_a = arm_a.cross(force) + V3::zero();
+    let torque_b = -(arm_b.cross(force) + V3::zero());
+    store_loads(state, entries, force, torque_a, torque_b);
+}
+
+/// `DASHPOT_BOUND` m/Δt: the bound on a dashpot pushing mass `m` (`DashpotLimit::of_masses`),
+/// Δt the world's step.
+///
+/// (The kernels call it, and every other lane operation, outside closures: a closure is not
+/// compiled with its function's target features, so each lane operation in it became a call.)
+#[inline(always)]
+pub(super) fn dashpot_limit(inputs: &LawInputs, mass: F4) -> F4 {
+    F4::splat(DASHPOT_BOUND) * mass * F4::splat(inputs.inverse_step)
+}
+
+/// Four point contacts as the law sees them (`forces::kinematics`, lane by lane).
+pub(super) struct PointContacts {
+    pub normal: V3,
+    pub overlap: F4,
+    /// The contact points' relative velocity over the step and predicted at its end.
+    pub relative: V3,
+    pub relative_end: V3,
+    pub effective_radius: F4,
+    pub effective_mass: F4,
+    /// The bounds on the normal and tangential dashpots (`contact_law::DashpotLimit`).
+    pub limit: [F4; 2],
+}
+
+/// The point law (`contact_law::evaluate_point` with `normal::elastic`,
+/// `tangential::tangential_force` and `book_dampers`) of the four touching `entries` over the
+/// step `dt`: writes their histories, reports and touching flags, and returns the force on body
+/// `a` (the caller writes the loads, whose moments depend on the partner).
+#[inline(always)]
+pub(super) fn point_law(
+    state: &mut EntryState,
+    entries: [usize; 4],
+    law: &Laws,
+    c: &PointContacts,
+    dt: f64,
+) -> V3 {
+    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
+    let history: [&History; 4] = each(|i| &state.history[entries[i]]);
+    let old_spring = V3::gather(|i| history[i].tangential_spring);
+    let old_kt = scalars(&|i| history[i].tangential_stiffness);
+    let previous_damper = V3::gather(|i| history[i].damper_force.as_dvec3());
+    let (zero, half, dt4) = (F4::splat(0.0), F4::splat(0.5), F4::splat(dt));
+    let (normal, overlap, effective_mass) = (c.normal, c.overlap, c.effective_mass);
 
     // Kinematics (forces::kinematics).
-    let (relative, relative_end) = (va - vb, va_end - vb_end);
+    let (relative, relative_end) = (c.relative, c.relative_end);
     let (normal_speed, normal_speed_end) = (relative.dot(normal), relative_end.dot(normal));
     let overlap_rate = -normal_speed_end;
     let tangential_velocity = relative - normal.scale(normal_speed);
     let tangential_velocity_end = relative_end - normal.scale(normal_speed_end);
     let velocity_start = relative.scale(F4::splat(2.0)) - relative_end;
-    let tangential_mass = F4::splat(TANGENTIAL_MASS_SHARE) * effective_mass;
 
-    // The normal law (normal::elastic; normal::bounded_dashpot on DashpotLimit::of_spheres,
-    // taken on the world's step whatever `dt` the histories advance by).
-    let inverse_step = F4::splat(inputs.inverse_step);
-    let bounded = |gamma: F4, mass: F4| gamma.min(F4::splat(DASHPOT_BOUND) * mass * inverse_step);
-    let contact_radius = (effective_radius * overlap).sqrt();
+    // The normal law (normal::elastic; normal::bounded_dashpot).
+    let contact_radius = (c.effective_radius * overlap).sqrt();
     let (e, k) = (law.youngs_modulus, law.linear_stiffness);
     let elastic = F4::select(
         law.hertz,
@@ -286,10 +341,7 @@ fn kernel(
         half * k * overlap * overlap,
     );
     let contact_radius = F4::select(law.hertz, contact_radius, zero);
-    let damping_coefficient = bounded(
-        law.damping * (effective_mass * stiffness).sqrt(),
-        effective_mass,
-    );
+    let damping_coefficient = (law.damping * (effective_mass * stiffness).sqrt()).min(c.limit[0]);
     let total = (elastic + damping_coefficient * overlap_rate).max(zero);
 
     // The tangential law (tangential::tangential_force).
@@ -300,10 +352,7 @@ fn kernel(
     );
     let frictionless = kt.le(zero) | law.friction.le(zero);
     let old_xi = rotate_into_plane(old_spring, normal);
-    let gamma = bounded(
-        damping_coefficient * law.tangential_damping_ratio,
-        tangential_mass,
-    );
+    let gamma = (damping_coefficient * law.tangential_damping_ratio).min(c.limit[1]);
     let damping = tangential_velocity_end.scale(-gamma);
     let trial_xi = old_xi + tangential_velocity.scale(dt4);
     let trial = trial_xi.scale(-kt) + damping;
@@ -340,16 +389,14 @@ fn kernel(
         (work, damper_force, estimate)
     };
 
-    // The response (evaluate_point) and the load (Load::new).
+    // The response (evaluate_point).
     let force = normal.scale(total) + force_t;
     let elastic_energy = elastic_energy + elastic_t;
     let dissipated = damper_work + dissipated_t + zero;
-    let torque_a = arm_a.cross(force) + V3::zero();
-    let torque_b = -(arm_b.cross(force) + V3::zero());
 
-    // Each entry's history, load and report are written whole, row by row: the lanes are
-    // turned into rows in registers (the same numbers, so the same bits) and stored 32 bytes at
-    // a time, where writing them number by number cost a store and a reload each.
+    // Each entry's history and report are written whole, row by row: the lanes are turned into
+    // rows in registers (the same numbers, so the same bits) and stored 32 bytes at a time,
+    // where writing them number by number cost a store and a reload each.
     let spring = F4::rows([xi.x, xi.y, xi.z, kt]);
     let damper = F4::rows([
         damper_force.x,
@@ -357,20 +404,35 @@ fn kernel(
         damper_force.z,
         damper_estimate,
     ]);
-    let load_first = F4::rows([force.x, force.y, force.z, torque_a.x]);
-    let load_second = F4::rows([torque_a.y, torque_a.z, torque_b.x, torque_b.y]);
-    let load_last = torque_b.z.to_array();
     let report = F4::rows([total, elastic_energy, dissipated, zero]);
     for (i, &k) in entries.iter().enumerate() {
         state.touching[k] = true;
         let (history_spring, history_damper) = state.history[k].as_rows_mut();
         spring[i].store(history_spring);
         damper[i].store_f32(history_damper);
+        report[i].store3(state.report[k].as_array_mut());
+    }
+    force
+}
+
+/// Writes the loads (`Load::new`) of the four `entries`: the force on body `a`, its moment, and
+/// the partner's moment (for a wall, the law's couple on `a`), as rows.
+#[inline(always)]
+pub(super) fn store_loads(
+    state: &mut EntryState,
+    entries: [usize; 4],
+    force: V3,
+    torque_a: V3,
+    torque_b: V3,
+) {
+    let load_first = F4::rows([force.x, force.y, force.z, torque_a.x]);
+    let load_second = F4::rows([torque_a.y, torque_a.z, torque_b.x, torque_b.y]);
+    let load_last = torque_b.z.to_array();
+    for (i, &k) in entries.iter().enumerate() {
         let (first, second, last) = state.load[k].as_rows_mut();
         load_first[i].store(first);
         load_second[i].store(second);
         *last = load_last[i];
-        report[i].store3(state.report[k].as_array_mut());
     }
 }
 

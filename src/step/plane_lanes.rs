@@ -1,0 +1,366 @@
+//! Four spheres on plane walls at once: the general path of a sphere touching a plane
+//! (`narrow_phase::sphere_plane`, `forces::LawInputs::respond`, `contact_law::evaluate_point`,
+//! `Load::new`) in four lanes, as `step::sphere_lanes` does for sphere pairs.
+//!
+//! In a box or a chute a tenth of the spheres or more rest on a plane, and each of those contacts
+//! took the general path one by one: about 100 ns each, a twelfth of the settled 10,000-sphere
+//! step. Each lane is the general path's arithmetic, operation for operation and in the same
+//! order, so the bits are the same (a property test below holds them together). Used in worlds of
+//! spheres and planes without rolling friction, where every single-contact entry with a plane
+//! partner is a sphere on a plane and takes the point law.
+
+use super::forces::LawInputs;
+use super::sphere_lanes::{self, dashpot_limit, Laws, MotionLanes, PointContacts};
+use crate::contact::{EntryIds, EntryState, Partner};
+use crate::wall::Plane;
+use crate::wide::lanes::{each, F4, V3};
+
+/// Whether the sphere of body `a` touches plane `partner` (the test of
+/// `narrow_phase::sphere_plane`; a NaN position counts as touching, so that a blow-up shows).
+#[inline(always)]
+pub(crate) fn touches(inputs: &LawInputs, a: u32, partner: Partner) -> bool {
+    let plane = plane(inputs, partner);
+    let m = &inputs.motion[a as usize];
+    let height = (m.position - plane.point).dot(plane.normal);
+    let overlap = m.radius - height;
+    !(overlap <= 0.0 || height <= -m.radius)
+}
+
+/// The plane of a wall entry's key.
+#[inline(always)]
+fn plane<'a>(inputs: &LawInputs<'a>, partner: Partner) -> &'a Plane {
+    match partner {
+        Partner::Plane(p) => &inputs.scene.planes[p as usize],
+        _ => unreachable!("only sphere–plane entries go through the plane lanes"),
+    }
+}
+
+/// Contact and response of the four touching sphere–plane `entries` over the step `dt`: four at
+/// once where the CPU can, one by one through the general path (the same numbers) where it
+/// cannot.
+#[inline]
+pub(crate) fn touching_planes(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::wide::available() {
+        // SAFETY: the CPU has AVX-512VL (and so AVX), which is all `with_avx512` is compiled for.
+        unsafe { with_avx512(inputs, ids, state, entries, dt) };
+    } else if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX, which is all `with_avx` is compiled for.
+        unsafe { with_avx(inputs, ids, state, entries, dt) };
+    } else {
+        for k in entries {
+            one_by_one(inputs, ids, state, k, dt);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    kernel(inputs, ids, state, entries, dt);
+}
+
+/// The general path for one touching sphere–plane entry `k`.
+pub(crate) fn one_by_one(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    k: usize,
+    dt: f64,
+) {
+    let key = ids.key[k];
+    let g = super::detect::detect_single(inputs.scene, &key, k, state)
+        .expect("a sphere–plane entry sorted as touching touches");
+    let mut none = crate::contact_law::SpinHistory::default();
+    let history = (&mut state.history[k], &mut none);
+    let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
+    let centre = inputs.motion[key.a as usize].position;
+    state.load[k] = crate::contact::Load::new(&r, g.point, centre, None);
+    state.report[k] = crate::contact::LawReport::of(&r);
+}
+
+/// [`kernel`] compiled for AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn with_avx(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    kernel(inputs, ids, state, entries, dt);
+}
+
+/// [`kernel`] compiled for AVX-512VL (32 vector registers; see `sphere_lanes::with_avx512`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx512f,avx512vl")]
+unsafe fn with_avx512(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    kernel(inputs, ids, state, entries, dt);
+}
+
+#[inline(always)]
+fn kernel(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    dt: f64,
+) {
+    let bodies = inputs.scene.bodies;
+    let a: [usize; 4] = each(|i| ids.key[entries[i]].a as usize);
+    let planes: [&Plane; 4] = each(|i| plane(inputs, ids.key[entries[i]].partner));
+    let m = MotionLanes::gather(each(|i| &inputs.motion[a[i]]));
+    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
+    let law = Laws::gather(each(|i| {
+        inputs.laws.get(bodies.material[a[i]], planes[i].material)
+    }));
+    let normal = V3::gather(|i| planes[i].normal);
+    let (zero, half) = (F4::splat(0.0), F4::splat(0.5));
+
+    // The narrow phase (narrow_phase::touching_sphere_plane).
+    let x = m.position;
+    let overlap = m.radius - (x - V3::gather(|i| planes[i].point)).dot(normal);
+    let point = x - normal.scale(m.radius - half * overlap);
+
+    // The contact point's velocity over the step and at its end (LawInputs::point_velocity); the
+    // plane's are zero, and v − 0 is v to the bit.
+    let arm = point - x;
+    let relative = m.velocity + m.angular_velocity.cross(arm);
+    let relative_end = m.velocity_end + m.angular_velocity_end.cross(arm);
+
+    // The masses a push along the normal and along the worst tangent move (forces::dashpot_mass
+    // for one body): (r × n)·I⁻¹(r × n) with r × n turned into the body's frame by the inverse
+    // of its orientation (glam's `DQuat::mul_vec3` on the conjugate, term for term).
+    let q = each(|i| bodies.orientation[a[i]]);
+    let (w, b) = (
+        F4::new(each(|i| q[i].w)),
+        V3::gather(|i| -glam::DVec3::new(q[i].x, q[i].y, q[i].z)),
+    );
+    let r = arm.cross(normal);
+    let turn = r.scale(w * w - b.dot(b))
+        + b.scale(r.dot(b) * F4::splat(2.0))
+        + b.cross(r).scale(w * F4::splat(2.0));
+    let inv_mass = scalars(&|i| bodies.inv_mass[a[i]]);
+    let inv_inertia = V3::gather(|i| bodies.inv_inertia[a[i]]);
+    let turn_squared = V3 {
+        x: turn.x * turn.x,
+        y: turn.y * turn.y,
+        z: turn.z * turn.z,
+    };
+    let normal_compliance = zero + (inv_mass + turn_squared.dot(inv_inertia));
+    // glam's `max_element`: max(x, max(y, z)) with max(p, q) = p if p > q, else q.
+    let (ix, iy, iz) = (inv_inertia.x, inv_inertia.y, inv_inertia.z);
+    let larger_yz = F4::select(iy.gt(iz), iy, iz);
+    let largest = F4::select(ix.gt(larger_yz), ix, larger_yz);
+    let tangential_compliance = zero + (inv_mass + arm.length_squared() * largest);
+    let one = F4::splat(1.0);
+    let limit = [
+        dashpot_limit(inputs, one / normal_compliance),
+        dashpot_limit(inputs, one / tangential_compliance),
+    ];
+
+    let contacts = PointContacts {
+        normal,
+        overlap,
+        relative,
+        relative_end,
+        effective_radius: scalars(&|i| bodies.equivalent_radius[a[i]]),
+        effective_mass: scalars(&|i| bodies.mass[a[i]]),
+        limit,
+    };
+    let force = sphere_lanes::point_law(state, entries, &law, &contacts, dt);
+    // Load::new with no partner body: the moment on `a`, and the law's couple (none).
+    let torque_a = arm.cross(force) + V3::zero();
+    sphere_lanes::store_loads(state, entries, force, torque_a, V3::zero());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::{Bodies, BodyInit};
+    use crate::contact::{ContactKey, LawReport, Load, PairKind};
+    use crate::contact_law::{History, NormalLaw};
+    use crate::integrate::BodyMotion;
+    use crate::material::{Material, PairTable};
+    use crate::math::{DQuat, DVec3};
+    use crate::shape::{Shape, Sphere};
+    use crate::step::Scene;
+    use glam::Vec3;
+    use proptest::prelude::*;
+
+    fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
+        (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+    }
+
+    /// Two materials (so lanes mix laws), both normal laws, without and with friction.
+    fn tables() -> &'static [PairTable] {
+        static TABLES: std::sync::OnceLock<Vec<PairTable>> = std::sync::OnceLock::new();
+        TABLES.get_or_init(|| {
+            (0..4)
+                .map(|k| {
+                    let material = |name: &str, restitution: f64, friction: f64| Material {
+                        name: name.into(),
+                        density: 2500.0,
+                        youngs_modulus: 5e6,
+                        poisson_ratio: 0.25,
+                        restitution,
+                        friction: if k & 2 != 0 { friction } else { 0.0 },
+                        rolling_friction: 0.0,
+                    };
+                    let normal = if k & 1 != 0 {
+                        NormalLaw::Hertz
+                    } else {
+                        NormalLaw::Linear { stiffness: 1e3 }
+                    };
+                    let materials = [material("a", 0.3, 0.4), material("b", 0.0, 0.7)];
+                    PairTable::new(&materials, normal, 2.0 / 7.0, &[])
+                })
+                .collect()
+        })
+    }
+
+    /// One sphere on a plane: radius, the plane's normal, how deep the sphere sits (a share of
+    /// its radius), its orientation, its velocities over the step and their change to its end,
+    /// the sphere's and the plane's materials, and the history it starts from.
+    type Case = (
+        f64,
+        DVec3,
+        f64,
+        DVec3,
+        [DVec3; 2],
+        [DVec3; 2],
+        (u32, u32),
+        DVec3,
+        f64,
+    );
+
+    fn case() -> impl Strategy<Value = Case> {
+        (
+            0.5e-3..2e-3f64,
+            vec3(1.0).prop_filter("a direction", |d| d.length() > 1e-3),
+            0.001..0.3f64,
+            vec3(3.0),
+            prop::array::uniform2(vec3(0.1)),
+            prop::array::uniform2(vec3(0.01)),
+            (0..2u32, 0..2u32),
+            prop_oneof![Just(DVec3::ZERO), vec3(1e-6), vec3(1e-4)],
+            prop_oneof![Just(0.0), 1.0..1e4f64],
+        )
+    }
+
+    proptest! {
+        /// The four-wide kernel gives each lane exactly what the general path gives that sphere
+        /// on its plane: load, report and history, to the bit, for both normal laws, lanes of
+        /// mixed materials and planes, with and without friction, sticking and sliding, turned
+        /// bodies with unequal inverse inertias.
+        #[test]
+        fn four_lanes_are_the_general_path_to_the_bit(
+            cases in prop::array::uniform4(case()),
+            law in 0..4usize,
+            dt in prop_oneof![Just(0.0), 1e-6..1e-4f64],
+            step in 1e-6..1e-4f64,
+        ) {
+            let laws = &tables()[law];
+            let (mut bodies, mut shapes, mut motion, mut planes) =
+                (Bodies::default(), Vec::new(), Vec::new(), Vec::new());
+            let mut start = Vec::new();
+            for (i, &(r, normal, depth, turn, v, end, (ma, mp), spring, kt)) in cases.iter().enumerate() {
+                let normal = normal.normalize();
+                let point = DVec3::new(0.01, -0.02, 0.03) * (i as f64 + 1.0);
+                let x = point + normal * (r * (1.0 - depth)) + normal.any_orthonormal_vector() * 0.004;
+                planes.push(Plane { point, normal, material: mp });
+                shapes.push(Shape::Sphere(Sphere { radius: r }));
+                let orientation = DQuat::from_scaled_axis(turn);
+                let init = BodyInit {
+                    shape: shapes[i].clone(),
+                    material: ma,
+                    position: x,
+                    orientation,
+                    velocity: DVec3::ZERO,
+                    angular_velocity: DVec3::ZERO,
+                };
+                let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+                // Unequal moments, as of a body that is not a solid sphere.
+                let inertia = DVec3::new(0.4, 0.3, 0.5) * mass * r * r;
+                bodies.push(i as u64, i as u32, ma, r, r, mass, inertia, &init);
+                motion.push(BodyMotion {
+                    position: x,
+                    radius: r,
+                    velocity: v[0],
+                    angular_velocity: v[1] * 100.0,
+                    velocity_end: v[0] + end[0],
+                    angular_velocity_end: (v[1] + end[1]) * 100.0,
+                });
+                start.push(History {
+                    tangential_spring: spring,
+                    tangential_stiffness: kt,
+                    damper_force: (spring * 1e4).as_vec3() + Vec3::X * 1e-3,
+                    damper_work_estimate: 1e-7,
+                });
+            }
+            let inputs = LawInputs {
+                scene: Scene {
+                    bodies: &bodies,
+                    shapes: &shapes,
+                    planes: &planes,
+                    walls: &[],
+                    law: Default::default(),
+                },
+                wall_states: &[],
+                laws,
+                motion: &motion,
+                inverse_step: 1.0 / step,
+            };
+            let key: Vec<ContactKey> = (0..4)
+                .map(|i| ContactKey { a: i, partner: Partner::Plane(i), region: 0 })
+                .collect();
+            let kind = [PairKind::Single; 4];
+            let ids = EntryIds { key: &key, kind: &kind };
+            for k in &key {
+                prop_assert!(touches(&inputs, k.a, k.partner), "{:?} must touch", k);
+            }
+            let run = |four_wide: bool| {
+                let mut touching = [false; 4];
+                let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
+                let (mut load, mut report) = ([Load::default(); 4], [LawReport::default(); 4]);
+                let mut state = EntryState {
+                    touching: &mut touching,
+                    geometry: &mut [],
+                    volume: &mut [],
+                    history: &mut history,
+                    spin: &mut [],
+                    load: &mut load,
+                    report: &mut report,
+                };
+                if four_wide {
+                    #[cfg(target_arch = "x86_64")]
+                    {
+                        if !std::arch::is_x86_feature_detected!("avx") {
+                            println!("no AVX here: the kernel is not used on this CPU");
+                        } else {
+                            // SAFETY: the CPU has AVX.
+                            unsafe { with_avx(&inputs, &ids, &mut state, [0, 1, 2, 3], dt) };
+                        }
+                    }
+                    #[cfg(not(target_arch = "x86_64"))]
+                    kernel(&inputs, &ids, &mut state, [0, 1, 2, 3], dt);
+                } else {
+                    for k in 0..4 {
+                        one_by_one(&inputs, &ids, &mut state, k, dt);
+                    }
+                }
+                format!("{touching:?} {history:?} {load:?} {report:?}")
+            };
+            prop_assert_eq!(run(true), run(false));
+        }
+    }
+}
