@@ -11,6 +11,8 @@
 //! entries are still in cache when the laws read what the narrow phase wrote.
 //! `World::update_forces` (src/world.rs) runs the stages in order.
 
+#[macro_use]
+mod four_wide;
 pub mod candidates;
 pub mod detect;
 pub mod forces;

@@ -35,32 +35,13 @@ fn plane<'a>(inputs: &LawInputs<'a>, partner: Partner) -> &'a Plane {
     }
 }
 
-/// Contact and response of the four touching sphere–plane `entries` over the step `dt`: four at
-/// once where the CPU can, one by one through the general path (the same numbers) where it
-/// cannot.
-#[inline]
-pub(crate) fn touching_planes(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::wide::available() {
-        // SAFETY: the CPU has AVX-512VL (and so AVX), which is all `with_avx512` is compiled for.
-        unsafe { with_avx512(inputs, ids, state, entries, dt) };
-    } else if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the CPU has AVX, which is all `with_avx` is compiled for.
-        unsafe { with_avx(inputs, ids, state, entries, dt) };
-    } else {
-        for k in entries {
-            one_by_one(inputs, ids, state, k, dt);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    kernel(inputs, ids, state, entries, dt);
-}
+four_wide_kernel!(
+    /// Contact and response of the four touching sphere–plane `entries` over the step `dt`: four
+    /// at once where the CPU can, one by one through the general path (the same numbers) where
+    /// it cannot.
+    touching_planes,
+    one_by_one
+);
 
 /// The general path for one touching sphere–plane entry `k`.
 pub(crate) fn one_by_one(
@@ -79,32 +60,6 @@ pub(crate) fn one_by_one(
     let centre = inputs.motion[key.a as usize].position;
     state.load[k] = crate::contact::Load::new(&r, g.point, centre, None);
     state.report[k] = crate::contact::LawReport::of(&r);
-}
-
-/// [`kernel`] compiled for AVX.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn with_avx(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    kernel(inputs, ids, state, entries, dt);
-}
-
-/// [`kernel`] compiled for AVX-512VL (32 vector registers; see `sphere_lanes::with_avx512`).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx,avx512f,avx512vl")]
-unsafe fn with_avx512(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    kernel(inputs, ids, state, entries, dt);
 }
 
 #[inline(always)]
@@ -188,45 +143,14 @@ mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
     use crate::contact::{ContactKey, LawReport, Load, PairKind};
-    use crate::contact_law::{History, NormalLaw};
+    use crate::contact_law::History;
     use crate::integrate::BodyMotion;
-    use crate::material::{Material, PairTable};
     use crate::math::{DQuat, DVec3};
     use crate::shape::{Shape, Sphere};
+    use crate::step::sphere_lanes::tests::{tables, vec3};
     use crate::step::Scene;
     use glam::Vec3;
     use proptest::prelude::*;
-
-    fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
-        (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
-    }
-
-    /// Two materials (so lanes mix laws), both normal laws, without and with friction.
-    fn tables() -> &'static [PairTable] {
-        static TABLES: std::sync::OnceLock<Vec<PairTable>> = std::sync::OnceLock::new();
-        TABLES.get_or_init(|| {
-            (0..4)
-                .map(|k| {
-                    let material = |name: &str, restitution: f64, friction: f64| Material {
-                        name: name.into(),
-                        density: 2500.0,
-                        youngs_modulus: 5e6,
-                        poisson_ratio: 0.25,
-                        restitution,
-                        friction: if k & 2 != 0 { friction } else { 0.0 },
-                        rolling_friction: 0.0,
-                    };
-                    let normal = if k & 1 != 0 {
-                        NormalLaw::Hertz
-                    } else {
-                        NormalLaw::Linear { stiffness: 1e3 }
-                    };
-                    let materials = [material("a", 0.3, 0.4), material("b", 0.0, 0.7)];
-                    PairTable::new(&materials, normal, 2.0 / 7.0, &[])
-                })
-                .collect()
-        })
-    }
 
     /// One sphere on a plane: radius, the plane's normal, how deep the sphere sits (a share of
     /// its radius), its orientation, its velocities over the step and their change to its end,

@@ -47,58 +47,18 @@ impl Group {
     }
 }
 
-/// Contact and response of the four touching sphere pairs `entries` (their partners bodies,
-/// their laws without rolling friction) over the step `dt`: four at once where the CPU can, one
-/// by one through the scalar path (the same numbers) where it cannot.
-#[inline]
-pub(crate) fn touching_pairs(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::wide::available() {
-        // SAFETY: the CPU has AVX-512VL (and so AVX), which is all `with_avx512` is compiled for.
-        unsafe { with_avx512(inputs, ids, state, entries, dt) };
-    } else if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the CPU has AVX, which is all `with_avx` is compiled for.
-        unsafe { with_avx(inputs, ids, state, entries, dt) };
-    } else {
-        for k in entries {
-            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    kernel(inputs, ids, state, entries, dt);
-}
+four_wide_kernel!(
+    /// Contact and response of the four touching sphere pairs `entries` (their partners bodies,
+    /// their laws without rolling friction) over the step `dt`: four at once where the CPU can,
+    /// one by one through the scalar path (the same numbers) where it cannot.
+    touching_pairs,
+    one_by_one
+);
 
-/// [`kernel`] compiled for AVX, whose 256-bit registers hold an [`F4`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn with_avx(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    kernel(inputs, ids, state, entries, dt);
-}
-
-/// [`kernel`] compiled for AVX-512VL: the same 256-bit operations, but with 32 vector registers
-/// instead of 16, which the kernel's many live values need (with 16 it spills to the stack).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx,avx512f,avx512vl")]
-unsafe fn with_avx512(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    entries: [usize; 4],
-    dt: f64,
-) {
-    kernel(inputs, ids, state, entries, dt);
+/// The scalar path for one touching sphere pair `k`.
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+fn one_by_one(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, k: usize, dt: f64) {
+    spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
 }
 
 /// The law's numbers of the four lanes.
@@ -437,7 +397,7 @@ pub(super) fn store_loads(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
     use crate::contact::{ContactKey, LawReport, Load, PairKind, Partner};
@@ -449,13 +409,13 @@ mod tests {
     use glam::Vec3;
     use proptest::prelude::*;
 
-    fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
+    pub(in crate::step) fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
         (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
     }
 
     /// Two materials (so lanes mix laws), both normal laws, without and with friction; made
     /// once, as the restitution's damping is found by integrating a collision.
-    fn tables() -> &'static [PairTable] {
+    pub(in crate::step) fn tables() -> &'static [PairTable] {
         static TABLES: std::sync::OnceLock<Vec<PairTable>> = std::sync::OnceLock::new();
         TABLES.get_or_init(|| {
             (0..4)
