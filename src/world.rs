@@ -288,6 +288,10 @@ impl World {
         self.update_candidates();
         clock.lap(&mut self.times.candidates);
         self.update_wall_states(dt);
+        // The contact loop adds up each body's own contacts into its force and torque, which
+        // no stage before the sums reads; they are the bodies' again for the sums.
+        let mut force = std::mem::take(&mut self.bodies.force);
+        let mut torque = std::mem::take(&mut self.bodies.torque);
         let scene = step::Scene {
             bodies: &self.bodies,
             shapes: &self.shapes,
@@ -305,8 +309,18 @@ impl World {
             inverse_step: 1.0 / self.time_step,
         };
         clock.lap(&mut self.times.other);
-        self.dissipated +=
-            step::detect_and_evaluate(laws, &mut self.contacts, dt, &mut self.dissipated_chunks);
+        let own = step::OwnSums {
+            force: &mut force,
+            torque: &mut torque,
+        };
+        self.dissipated += step::detect_and_evaluate(
+            laws,
+            &mut self.contacts,
+            own,
+            dt,
+            &mut self.dissipated_chunks,
+        );
+        (self.bodies.force, self.bodies.torque) = (force, torque);
         clock.lap(&mut self.times.detect_and_evaluate);
         step::accumulate(&mut self.bodies, &self.contacts, kick);
         self.book_wall_loads(dt);

@@ -1,7 +1,9 @@
 //! What a contact's law gives each step, split by who reads it: the [`Load`] on the two bodies,
-//! which the force sums read for every body and step, and the [`LawReport`] (normal force,
-//! energies), which only the energy ledger and the outputs read. The sums then stream 72 bytes
-//! per contact instead of the law's whole response and the contact point.
+//! and the [`LawReport`] (normal force, energies), which only the energy ledger and the outputs
+//! read. Of the load, the store keeps only the partner's side ([`PartnerLoad`], 48 bytes): body
+//! `a`'s side is added to `a`'s sum by the contact loop itself, while the chunk's loads are still
+//! in the cache (`step::forces::evaluate`), so the force sums read 48 bytes per contact, and
+//! only for the partner.
 
 use crate::contact_law::Response;
 use crate::math::DVec3;
@@ -34,12 +36,37 @@ impl Load {
         }
     }
 
-    /// The same load with the two bodies' roles exchanged.
-    pub fn seen_from_partner(self) -> Self {
-        Load {
+    /// What the partner takes: the opposite force, and its moment (for a wall, the couple).
+    #[inline(always)]
+    pub fn partner_side(&self) -> PartnerLoad {
+        PartnerLoad {
+            force: self.force,
+            torque_b: self.torque_b,
+        }
+    }
+}
+
+/// What the store keeps of a contact's [`Load`] between the contact loop and the force sums: the
+/// partner's side. (Body `a`'s moment is added to `a`'s sum in the contact loop.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
+pub struct PartnerLoad {
+    /// Force on body `a` [N]; the partner takes the opposite.
+    pub force: DVec3,
+    /// Moment on the partner body about its centre [N m]; for a wall partner, the law's couple
+    /// on `a`.
+    pub torque_b: DVec3,
+}
+
+impl PartnerLoad {
+    /// The load of a body pair with the two bodies' roles exchanged, `centres` those of `a` and
+    /// of the partner: the new partner's moment is `a`'s, which the moments' balance gives,
+    /// τ_a + τ_b = (c_b − c_a) × F.
+    pub fn seen_from_partner(self, centres: (DVec3, DVec3)) -> Self {
+        let torque_a = (centres.1 - centres.0).cross(self.force) - self.torque_b;
+        PartnerLoad {
             force: -self.force,
-            torque_a: self.torque_b,
-            torque_b: self.torque_a,
+            torque_b: torque_a,
         }
     }
 }
@@ -67,31 +94,70 @@ impl LawReport {
     }
 }
 
-// The layouts the four-wide sphere kernel writes (`Load::as_rows_mut`, `LawReport::as_array_mut`):
-// nine and three `f64` in the order of the fields, no padding.
+/// Body `a`'s side of a contact's [`Load`], which the contact loop adds to `a`'s sums in the
+/// cache (see `step::forces::evaluate`) and the store does not keep.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct OwnLoad {
+    /// Force on body `a` [N].
+    pub force: DVec3,
+    /// Moment on `a` about its centre [N m].
+    pub torque_a: DVec3,
+}
+
+impl Load {
+    /// What body `a` takes.
+    #[inline(always)]
+    pub fn own_side(&self) -> OwnLoad {
+        OwnLoad {
+            force: self.force,
+            torque_a: self.torque_a,
+        }
+    }
+}
+
+// The layouts the four-wide kernels write (`as_rows_mut`, `LawReport::as_array_mut`): six and
+// three `f64` in the order of the fields, no padding.
 const _: () = {
     use std::mem::{offset_of, size_of};
-    assert!(size_of::<Load>() == 72 && offset_of!(Load, torque_a) == 24);
-    assert!(offset_of!(Load, torque_b) == 48);
+    assert!(size_of::<PartnerLoad>() == 48 && offset_of!(PartnerLoad, torque_b) == 24);
+    assert!(size_of::<OwnLoad>() == 48 && offset_of!(OwnLoad, torque_a) == 24);
     assert!(size_of::<LawReport>() == 24 && offset_of!(LawReport, elastic_energy) == 8);
     assert!(offset_of!(LawReport, dissipated) == 16);
 };
 
-impl Load {
-    /// The load's nine numbers as rows of four, four and one: (force, torque_a.x),
-    /// (torque_a.y, torque_a.z, torque_b.x, torque_b.y), torque_b.z.
+/// The six numbers of a force and a moment, `repr(C)` with no padding (asserted above), as rows
+/// of four and two: (force, moment.x), (moment.y, moment.z).
+///
+/// # Safety
+/// `T` must be six `f64` in a row.
+#[inline(always)]
+unsafe fn six_as_rows<T>(value: &mut T) -> (&mut [f64; 4], &mut [f64; 2]) {
+    let start = (value as *mut T).cast::<f64>();
+    // SAFETY: the caller's promise; the two parts do not overlap.
+    unsafe {
+        (
+            &mut *start.cast::<[f64; 4]>(),
+            &mut *start.add(4).cast::<[f64; 2]>(),
+        )
+    }
+}
+
+impl PartnerLoad {
+    /// The six numbers as rows: (force, torque_b.x), (torque_b.y, torque_b.z).
     #[inline(always)]
-    pub(crate) fn as_rows_mut(&mut self) -> (&mut [f64; 4], &mut [f64; 4], &mut f64) {
-        let start = (self as *mut Load).cast::<f64>();
-        // SAFETY: `Load` is `repr(C)`, nine `f64` with no padding (asserted above; glam's
-        // `DVec3` is three `repr(C)` `f64`); the three parts do not overlap.
-        unsafe {
-            (
-                &mut *start.cast::<[f64; 4]>(),
-                &mut *start.add(4).cast::<[f64; 4]>(),
-                &mut *start.add(8),
-            )
-        }
+    pub(crate) fn as_rows_mut(&mut self) -> (&mut [f64; 4], &mut [f64; 2]) {
+        // SAFETY: `PartnerLoad` is `repr(C)`, two `DVec3` (three `repr(C)` `f64` each).
+        unsafe { six_as_rows(self) }
+    }
+}
+
+impl OwnLoad {
+    /// The six numbers as rows: (force, torque_a.x), (torque_a.y, torque_a.z).
+    #[inline(always)]
+    pub(crate) fn as_rows_mut(&mut self) -> (&mut [f64; 4], &mut [f64; 2]) {
+        // SAFETY: `OwnLoad` is `repr(C)`, two `DVec3` (three `repr(C)` `f64` each).
+        unsafe { six_as_rows(self) }
     }
 }
 

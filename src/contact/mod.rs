@@ -8,11 +8,11 @@ mod store;
 mod view;
 
 pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits};
-pub use load::{LawReport, Load};
+pub use load::{LawReport, Load, OwnLoad, PartnerLoad};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
 pub use store::{
     Candidate, ContactRef, ContactStore, EntryRecord, PartnerId, Placement, StoreLayout,
-    UnplacedContact,
+    UnplacedContact, CHUNK_ENTRIES,
 };
-pub(crate) use store::{EntryIds, EntryState};
+pub(crate) use store::{Chunks, EntryIds, EntryState, StorePass};
 pub use view::Contacts;

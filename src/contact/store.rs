@@ -13,18 +13,21 @@
 //! response).
 
 use super::key::{ContactKey, ContactOrder, PairKind, Partner};
-use super::load::{LawReport, Load};
+use super::load::{LawReport, Load, OwnLoad, PartnerLoad};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
-use crate::math::permute_in_place;
+use crate::math::{permute_in_place, DVec3};
 use crate::narrow_phase::{self, ContactPoint, Geometry};
 use crate::shape::Shape;
 use crate::wall::Plane;
 use rayon::prelude::*;
 
+mod pass;
 mod relocate;
 mod transfer;
+pub use pass::CHUNK_ENTRIES;
+pub(crate) use pass::{Chunks, StorePass};
 use relocate::GONE;
 pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
 
@@ -81,7 +84,7 @@ pub struct ContactRef<'a> {
     pub history: &'a History,
     /// The rolling and twisting springs, in worlds that keep them (see [`SpinHistory`]).
     pub spin: Option<&'a SpinHistory>,
-    pub load: &'a Load,
+    pub load: &'a PartnerLoad,
     pub report: &'a LawReport,
 }
 
@@ -110,9 +113,9 @@ pub struct ContactStore {
     /// Per entry, sorted by key: key, whether it touches this step, its geometry (valid while
     /// touching; kept to match regions next step) and its history.
     entries: Persistent,
-    /// Per entry: what the contact law gave this step (zero when not touching), the load on the
-    /// bodies apart from the rest.
-    load: Vec<Load>,
+    /// Per entry: what the contact law gave this step (zero when not touching), the partner's
+    /// side of the load apart from the rest (body `a`'s side went straight into its sum).
+    load: Vec<PartnerLoad>,
     report: Vec<LawReport>,
     /// Per entry, only in a world with polyhedra (else empty): the overlap volume of polyhedral
     /// contacts under the volume law.
@@ -125,6 +128,10 @@ pub struct ContactStore {
     /// in store order.
     incoming_first: Vec<u32>,
     incoming: Vec<u32>,
+    /// The first body of each chunk of the contact loop, and the count of bodies (see
+    /// [`Chunks`]); made again from `own` when empty.
+    #[serde(skip)]
+    chunks: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
     /// Working memory of [`ContactStore::set_candidates`]: each candidate's first entry (when
@@ -231,7 +238,7 @@ impl ContactStore {
         }
         // What the last evaluation gave goes along with its entry (read between steps: the
         // ledger, the outputs), so the store tells the same story after a new list as before.
-        self.load.resize(old, Load::default());
+        self.load.resize(old, PartnerLoad::default());
         self.report.resize(old, LawReport::default());
         if layout.volumes {
             self.volume.resize(old, None);
@@ -263,7 +270,7 @@ impl ContactStore {
         } = e;
         let (load, report, volume) = (&mut self.load, &mut self.report, &mut self.volume);
         rayon::scope(|s| {
-            s.spawn(|_| relocate::relocate(load, fates, targets, count, Load::default()));
+            s.spawn(|_| relocate::relocate(load, fates, targets, count, PartnerLoad::default()));
             s.spawn(|_| relocate::relocate(history, fates, targets, count, History::default()));
             s.spawn(|_| {
                 relocate::relocate(report, fates, targets, count, LawReport::default());
@@ -322,6 +329,7 @@ impl ContactStore {
             self.own[i + 1] += self.own[i];
             self.incoming_first[i + 1] += self.incoming_first[i];
         }
+        pass::chunk_bodies(&self.own, &mut self.chunks);
         self.incoming.clear();
         self.incoming
             .resize(self.incoming_first[bodies] as usize, 0);
@@ -394,6 +402,7 @@ impl ContactStore {
         }
         self.regional.clear();
         self.own.clear();
+        self.chunks.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
@@ -407,7 +416,8 @@ impl ContactStore {
     /// index) is seen from its other side: its normal, tangential spring, dashpot force, rolling
     /// torque, force and moments change sign. Nothing else changes; the per-body index lists are
     /// stale until the next [`ContactStore::set_candidates`].
-    pub fn permute(&mut self, new_index: &[u32], ids: &[u64]) {
+    /// `positions`: the bodies' centres, in the new order.
+    pub fn permute(&mut self, new_index: &[u32], ids: &[u64], positions: &[DVec3]) {
         let e = &mut self.entries;
         // The keys are renamed in place, then the entries sorted through an index array (4 bytes
         // an entry: this runs on a full store, and its working memory adds to the peak).
@@ -425,7 +435,11 @@ impl ContactStore {
                     if let Some(spin) = e.spin.get_mut(k) {
                         spin.rolling_torque = -spin.rolling_torque;
                     }
-                    self.load[k] = self.load[k].seen_from_partner();
+                    let centres = (
+                        positions[a as usize],
+                        positions[new_index[j as usize] as usize],
+                    );
+                    self.load[k] = self.load[k].seen_from_partner(centres);
                     if let Some(Some(v)) = self.volume.get_mut(k) {
                         v.couple = -v.couple;
                     }
@@ -468,6 +482,7 @@ impl ContactStore {
         }
         self.regional.clear();
         self.own.clear();
+        self.chunks.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
@@ -503,7 +518,7 @@ impl ContactStore {
         &self.entries.geometry
     }
 
-    pub fn loads(&self) -> &[Load] {
+    pub fn loads(&self) -> &[PartnerLoad] {
         &self.load
     }
 
@@ -529,27 +544,6 @@ impl ContactStore {
     /// Entries whose partner is a wall, in store order.
     pub fn wall_entries(&self) -> &[u32] {
         &self.wall_entries
-    }
-
-    /// The entries split for a step's pass: what identifies them, and what the narrow phase and
-    /// the contact laws write.
-    pub(crate) fn pass_mut(&mut self) -> (EntryIds<'_>, EntryState<'_>) {
-        let e = &mut self.entries;
-        (
-            EntryIds {
-                key: &e.key,
-                kind: &e.kind,
-            },
-            EntryState {
-                touching: &mut e.touching,
-                geometry: &mut e.geometry,
-                volume: &mut self.volume,
-                history: &mut e.history,
-                spin: &mut e.spin,
-                load: &mut self.load,
-                report: &mut self.report,
-            },
-        )
     }
 
     /// Sets what the pairs with several regions touch this step: `assigned[g]` for the pair whose
@@ -677,8 +671,21 @@ pub(crate) struct EntryState<'a> {
     pub history: &'a mut [History],
     /// Empty in a world without rolling friction and polyhedra.
     pub spin: &'a mut [SpinHistory],
-    pub load: &'a mut [Load],
+    /// The partner's side of each entry's load, kept by the store for the force sums.
+    pub load: &'a mut [PartnerLoad],
+    /// Body `a`'s side of each touching entry's load, in the contact loop's scratch (what it
+    /// holds for an entry that does not touch is not read).
+    pub own: &'a mut [OwnLoad],
     pub report: &'a mut [LawReport],
+}
+
+impl EntryState<'_> {
+    /// Makes `load` entry `k`'s load.
+    #[inline(always)]
+    pub(crate) fn set_load(&mut self, k: usize, load: Load) {
+        self.load[k] = load.partner_side();
+        self.own[k] = load.own_side();
+    }
 }
 
 #[cfg(test)]
@@ -920,7 +927,8 @@ mod tests {
 
     /// A store whose body pairs are seen from the lower index (as checkpoints of older versions
     /// keep them) is turned to the order of ids: each pair seen from the body of smaller id,
-    /// with its springs and load seen from that side, and sorted by partner id.
+    /// with its springs and load seen from that side (the new partner's moment from the balance
+    /// of moments), and sorted by partner id.
     #[test]
     fn a_store_oriented_by_index_is_turned_to_the_order_of_ids() {
         let mut store = ContactStore::default();
@@ -932,7 +940,11 @@ mod tests {
         store.set_candidates(&list, &numbered(3), kept(false, false));
         let e = touch(&mut store, 0, Partner::Body(2));
         store.entries.history[e].tangential_spring = DVec3::X;
+        // Body 0 at the origin pushed along y at (1, 0, 0) by body 2 at (2, 0, 0): both turn
+        // about +z.
         store.load[e].force = DVec3::Y;
+        store.load[e].torque_b = DVec3::Z;
+        let positions = [DVec3::ZERO, DVec3::ONE, DVec3::new(2.0, 0.0, 0.0)];
         // The same bodies with ids in the other order: every pair is now seen from the wrong side.
         let reversed = Bodies {
             id: vec![2, 1, 0],
@@ -940,7 +952,7 @@ mod tests {
         };
         assert!(store.in_order(&numbered(3).id));
         assert!(!store.in_order(&reversed.id));
-        store.permute(&[0, 1, 2], &reversed.id);
+        store.permute(&[0, 1, 2], &reversed.id, &positions);
         assert!(store.in_order(&reversed.id));
         let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();
         assert_eq!(
@@ -958,6 +970,7 @@ mod tests {
         let turned = turned.unwrap();
         assert_eq!(store.entries.history[turned].tangential_spring, -DVec3::X);
         assert_eq!(store.load[turned].force, -DVec3::Y);
+        assert_eq!(store.load[turned].torque_b, DVec3::Z);
         assert_eq!(store.entries.geometry[turned].normal, -DVec3::Z);
     }
 

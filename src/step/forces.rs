@@ -5,7 +5,8 @@
 
 use crate::body::Bodies;
 use crate::contact::{
-    ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, PairKind, Partner,
+    ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind, Partner,
+    StorePass,
 };
 use crate::contact_law::{
     self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
@@ -22,7 +23,6 @@ use crate::step::spheres::{self, EntryOut};
 use crate::step::Scene;
 use crate::wall::WallState;
 use rayon::prelude::*;
-use std::ops::Range;
 
 /// What the contact laws read besides the contacts.
 #[derive(Clone, Copy)]
@@ -51,6 +51,7 @@ impl EntryState<'_> {
             history: &mut self.history[k],
             spin: self.spin.get_mut(k),
             load: &mut self.load[k],
+            own: &mut self.own[k],
             report: &mut self.report[k],
         }
     }
@@ -182,30 +183,105 @@ impl LawInputs<'_> {
     }
 }
 
-/// Evaluates the contact law of every touching contact of a run of entries over the step `dt`
-/// (sphere pairs find their contact here too, see [`spheres`](super::spheres)). A contact that
-/// ended forgets its history; the energy its springs held is booked as dissipated. Returns the
-/// energy the run's contacts dissipated over the step, summed in entry order (those of a ghost's
-/// contacts left to its owner).
+/// Evaluates the contact law of every touching contact of a chunk of entries (`pass`, the entries
+/// of whole bodies, the first of them `first_body`) over the step `dt` (sphere pairs find their
+/// contact here too, see [`spheres`](super::spheres)). A contact that ended forgets its history;
+/// the energy its springs held is booked as dissipated. Returns the energy the chunk's contacts
+/// dissipated over the step, summed in entry order (those of a ghost's contacts left to its
+/// owner).
+///
+/// Each run's loads are kept in a scratch array: the partner's side goes into the store for the
+/// force sums, and body `a`'s side is added into `own`, the chunk's bodies' sums, in store order
+/// (the order [`accumulate`] added them in before, so the same bits), while still in the cache.
 ///
 /// Relies on what the store keeps true between steps: an entry that does not touch holds no
 /// history, a zero load and a zero report. A sphere pair that was apart and stays apart is then
 /// left as it is, with nothing read of it but its flag and nothing written.
-pub(crate) fn evaluate(inputs: LawInputs, ids: &EntryIds, state: &mut EntryState, dt: f64) -> f64 {
-    let mut sorted = Sorted::default();
-    let mut dissipated = 0.0;
-    let count = ids.key.len();
-    for start in (0..count).step_by(RUN) {
-        let run = start..(start + RUN).min(count);
-        sorted.sort(&inputs, ids, state, run.clone());
-        evaluate_sorted(&inputs, ids, state, &sorted, dt);
-        dissipated += booked(&inputs, ids, state, run, sorted.ended());
+pub(crate) fn evaluate(
+    inputs: LawInputs,
+    mut pass: StorePass,
+    mut own: OwnSums,
+    first_body: usize,
+    dt: f64,
+) -> f64 {
+    own.force.fill(DVec3::ZERO);
+    own.torque.fill(DVec3::ZERO);
+    SCRATCH.with_borrow_mut(|scratch| {
+        let Scratch { sorted, own_loads } = &mut **scratch;
+        let mut dissipated = 0.0;
+        let (keys, count) = (pass.key, pass.len());
+        for start in (0..count).step_by(RUN) {
+            let run = start..(start + RUN).min(count);
+            let (ids, mut state) = pass.run(run.clone(), &mut own_loads[..run.len()]);
+            sorted.sort(&inputs, &ids, &state, &keys[start..]);
+            evaluate_sorted(&inputs, &ids, &mut state, sorted, dt);
+            dissipated += booked(&inputs, &ids, &mut state, sorted.ended());
+            add_own_loads(&ids, &state, &mut own, first_body);
+        }
+        dissipated
+    })
+}
+
+/// Body `a`'s side of a run's loads added to the sums `own` (of the bodies from `first_body`
+/// on), in store order. An entry that does not touch has a zero load, which would leave the sum
+/// as it is (a sum that starts at +0 stays bit for bit the same when ±0 is added): it is masked
+/// out rather than branched on (whether a candidate touches is a coin toss), and its scratch
+/// need not be cleared.
+#[inline(always)]
+fn add_own_loads(ids: &EntryIds, state: &EntryState, own: &mut OwnSums, first_body: usize) {
+    let masked = |v: DVec3, mask: u64| {
+        DVec3::new(
+            f64::from_bits(v.x.to_bits() & mask),
+            f64::from_bits(v.y.to_bits() & mask),
+            f64::from_bits(v.z.to_bits() & mask),
+        )
+    };
+    for ((key, load), &touching) in ids.key.iter().zip(state.own.iter()).zip(&*state.touching) {
+        let mask = (touching as u64).wrapping_neg();
+        let i = key.a as usize - first_body;
+        own.force[i] += masked(load.force, mask);
+        own.torque[i] += masked(load.torque_a, mask);
     }
-    dissipated
+}
+
+/// The contact loop's working memory, one per thread, kept from step to step: the sorted lists
+/// of a run, and body `a`'s side of its loads.
+struct Scratch {
+    sorted: Sorted,
+    own_loads: [OwnLoad; RUN],
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::new(Scratch {
+        sorted: Sorted::default(),
+        own_loads: [OwnLoad::default(); RUN],
+    }));
+}
+
+/// The sums of a run of bodies' own contacts (those where the body is `a`): the bodies' force and
+/// torque arrays, which [`accumulate`] completes with the contacts whose partner they are.
+pub struct OwnSums<'a> {
+    pub force: &'a mut [DVec3],
+    pub torque: &'a mut [DVec3],
+}
+
+impl OwnSums<'_> {
+    /// The bodies before `mid` and from `mid` on.
+    pub(crate) fn split_at(self, mid: usize) -> (Self, Self) {
+        let (force, force_rest) = self.force.split_at_mut(mid);
+        let (torque, torque_rest) = self.torque.split_at_mut(mid);
+        (
+            OwnSums { force, torque },
+            OwnSums {
+                force: force_rest,
+                torque: torque_rest,
+            },
+        )
+    }
 }
 
 /// Entries the contact loop sorts at a time (the length of a parallel work item).
-const RUN: usize = super::CHUNK;
+const RUN: usize = crate::contact::CHUNK_ENTRIES;
 
 /// A run's entries sorted by what they need: sphere pairs that touch, spheres that touch a plane
 /// (in worlds where they take the four-wide path, see [`plane_lanes`]), those of either kind that
@@ -233,18 +309,25 @@ impl Default for Sorted {
 }
 
 impl Sorted {
-    /// Sorts the entries `run` (at most [`RUN`]). A function of its own: inlined into the
-    /// contact loop, its counters had to share the registers of the loop's other paths, and one
-    /// went to the stack and back at every entry.
+    /// Sorts the entries of a run (at most [`RUN`]); `ahead`, the keys from the run's first on
+    /// to the chunk's end, tells what to ask for in advance. A function of its own: inlined into
+    /// the contact loop, its counters had to share the registers of the loop's other paths, and
+    /// one went to the stack and back at every entry.
     #[inline(never)]
-    fn sort(&mut self, inputs: &LawInputs, ids: &EntryIds, state: &EntryState, run: Range<usize>) {
+    fn sort(
+        &mut self,
+        inputs: &LawInputs,
+        ids: &EntryIds,
+        state: &EntryState,
+        ahead: &[ContactKey],
+    ) {
         let [mut touching, mut planes, mut ended, mut other] = [0; 4];
         // In a world of spheres and planes without rolling friction (no geometry kept, no spin
         // histories), every single-contact entry is a sphere on a plane under the point law.
         let planes_in_lanes = state.geometry.is_empty() && state.spin.is_empty();
-        for k in run {
+        for k in 0..ids.key.len() {
             let key = ids.key[k];
-            if let Some(ahead) = ids.key.get(k + SORT_PREFETCH_AHEAD) {
+            if let Some(ahead) = ahead.get(k + SORT_PREFETCH_AHEAD) {
                 prefetch_partner(inputs, ahead.partner);
             }
             let kind = ids.kind[k];
@@ -361,31 +444,24 @@ fn evaluate_sorted(
             .body()
             .map(|j| inputs.motion[j as usize].position);
         let centre_a = inputs.motion[key.a as usize].position;
-        state.load[k] = Load::new(&r, point, centre_a, centre_b);
+        state.set_load(k, Load::new(&r, point, centre_a, centre_b));
         state.report[k] = LawReport::of(&r);
     }
 }
 
-/// The energy the entries `run` dissipated this step, added up in entry order (a ghost's
-/// contacts are left to its owner); then the reports of the sphere pairs that `ended` go back
-/// to zero, so that what their springs held is booked once (the next steps leave them as they
-/// are).
+/// The energy a run's entries dissipated this step, added up in entry order (a ghost's contacts
+/// are left to its owner); then the reports of the sphere pairs that `ended` go back to zero, so
+/// that what their springs held is booked once (the next steps leave them as they are).
 #[inline(always)]
-fn booked(
-    inputs: &LawInputs,
-    ids: &EntryIds,
-    state: &mut EntryState,
-    run: Range<usize>,
-    ended: &[u32],
-) -> f64 {
+fn booked(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, ended: &[u32]) -> f64 {
     let ghost = &inputs.scene.bodies.ghost;
-    let reports = &state.report[run.clone()];
+    let reports = &*state.report;
     let sum = if ghost.is_empty() {
         reports.iter().map(|r| r.dissipated).sum::<f64>()
     } else {
         reports
             .iter()
-            .zip(&ids.key[run])
+            .zip(ids.key)
             .filter(|(_, key)| !ghost[key.a as usize])
             .map(|(r, _)| r.dissipated)
             .sum::<f64>()
@@ -443,9 +519,9 @@ pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Re
     }
 }
 
-/// Sums the contact forces and moments onto the bodies: each body its own contacts (as `a`) and
-/// then those whose partner it is, in store order; then gives each body the step's closing half
-/// `kick`, if any, while its sums are at hand.
+/// Completes the bodies' force and moment sums, which hold their own contacts' (as `a`, added by
+/// [`evaluate`]), with those of the contacts whose partner they are, in store order; then gives
+/// each body the step's closing half `kick`, if any, while its sums are at hand.
 pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>) {
     let load = store.loads();
     let Bodies {
@@ -480,11 +556,7 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
                     prefetch(&load[e as usize]);
                 }
             }
-            let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
-            for e in store.own(i) {
-                f += load[e].force;
-                t += load[e].torque_a;
-            }
+            let (mut f, mut t) = (*force, *torque);
             for &e in store.incoming(i) {
                 let e = e as usize;
                 f -= load[e].force;

@@ -30,70 +30,75 @@ pub use forces::{accumulate, LawInputs};
 pub use timing::{StageTimes, Stopwatch};
 pub use wall_loads::{WallLoads, WallsNow};
 
-use crate::contact::{ContactStore, EntryIds, EntryState};
-use rayon::iter::Either;
-use rayon::prelude::*;
+pub use forces::OwnSums;
 
-/// Entries per parallel work item: small enough to stay in the L1/L2 cache between the narrow
-/// phase and the laws, large enough to make the scheduling cost negligible.
-const CHUNK: usize = 256;
+use crate::contact::{Chunks, ContactStore, StorePass};
+use crate::math::DVec3;
+use std::ops::Range;
 
 /// The narrow phase of the single-contact pairs, then the contact laws of every entry, over the
 /// step `dt`, chunk by chunk in parallel (regional pairs' geometry comes from
-/// [`detect_regions`], run before). Returns the energy the contacts dissipated over the step:
-/// each chunk's sum, then the chunks' in order, so the same figure for any thread count
-/// (`partial` is working memory kept from step to step).
+/// [`detect_regions`], run before). Each chunk holds the entries of whole bodies, and leaves in
+/// `own` (every body's) the sums of its bodies' own contacts, for [`accumulate`] to complete.
+/// Returns the energy the contacts dissipated over the step: each chunk's sum, then the chunks'
+/// in order, so the same figure for any thread count (`partial` is working memory kept from step
+/// to step).
 pub fn detect_and_evaluate(
     laws: LawInputs,
     store: &mut ContactStore,
+    own: OwnSums,
     dt: f64,
     partial: &mut Vec<f64>,
 ) -> f64 {
-    let (ids, state) = store.pass_mut();
-    // A world of spheres and planes keeps no geometry, one without polyhedra no volumes, one
-    // without rolling friction and polyhedra no spin histories: each chunk then gets an empty
-    // slice.
-    let chunks = ids.key.len().div_ceil(CHUNK);
-    let geometry = side_array_chunks(state.geometry, chunks);
-    let volume = side_array_chunks(state.volume, chunks);
-    let spin = side_array_chunks(state.spin, chunks);
-    ids.key
-        .par_chunks(CHUNK)
-        .zip(ids.kind.par_chunks(CHUNK))
-        .zip(state.touching.par_chunks_mut(CHUNK))
-        .zip(geometry)
-        .zip(volume)
-        .zip(state.history.par_chunks_mut(CHUNK))
-        .zip(spin)
-        .zip(state.load.par_chunks_mut(CHUNK))
-        .zip(state.report.par_chunks_mut(CHUNK))
-        .map(
-            |((((((((key, kind), touching), geometry), volume), history), spin), load), report)| {
-                let ids = EntryIds { key, kind };
-                let mut state = EntryState {
-                    touching,
-                    geometry,
-                    volume,
-                    history,
-                    spin,
-                    load,
-                    report,
-                };
-                forces::evaluate(laws, &ids, &mut state, dt)
-            },
-        )
-        .collect_into_vec(partial);
+    let (pass, chunks) = store.pass_mut();
+    partial.clear();
+    partial.resize(chunks.len(), 0.0);
+    if chunks.len() == 0 {
+        // No index lists yet, so no entries: no contact sums either.
+        own.force.fill(DVec3::ZERO);
+        own.torque.fill(DVec3::ZERO);
+        return 0.0;
+    }
+    debug_assert_eq!(chunks.bodies.last().copied(), Some(own.force.len() as u32));
+    evaluate_chunks(&laws, pass, own, chunks, 0..chunks.len(), partial, dt);
     partial.iter().sum()
 }
 
-/// The chunks of a side array that a world may not keep: its chunks, or `chunks` empty slices.
-fn side_array_chunks<T: Send>(
-    values: &mut [T],
-    chunks: usize,
-) -> impl IndexedParallelIterator<Item = &mut [T]> {
-    if values.is_empty() {
-        Either::Right((0..chunks).into_par_iter().map(|_| <&mut [T]>::default()))
-    } else {
-        Either::Left(values.par_chunks_mut(CHUNK))
+/// [`forces::evaluate`] of the chunks `range` (whose entries are `pass`, whose bodies' sums are
+/// `own`, and whose dissipated energies go to `partial`), halved until one chunk is left, the
+/// halves in parallel.
+fn evaluate_chunks(
+    laws: &LawInputs,
+    pass: StorePass,
+    own: OwnSums,
+    chunks: Chunks,
+    range: Range<usize>,
+    partial: &mut [f64],
+    dt: f64,
+) {
+    if range.len() == 1 {
+        let first_body = chunks.bodies[range.start] as usize;
+        partial[0] = forces::evaluate(*laws, pass, own, first_body, dt);
+        return;
     }
+    let mid = range.start + range.len() / 2;
+    let entries = chunks.first_entry(mid) - chunks.first_entry(range.start);
+    let bodies = (chunks.bodies[mid] - chunks.bodies[range.start]) as usize;
+    let (pass, pass_rest) = pass.split_at(entries);
+    let (own, own_rest) = own.split_at(bodies);
+    let (partial, partial_rest) = partial.split_at_mut(mid - range.start);
+    rayon::join(
+        || evaluate_chunks(laws, pass, own, chunks, range.start..mid, partial, dt),
+        || {
+            evaluate_chunks(
+                laws,
+                pass_rest,
+                own_rest,
+                chunks,
+                mid..range.end,
+                partial_rest,
+                dt,
+            )
+        },
+    );
 }

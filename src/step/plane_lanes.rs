@@ -58,7 +58,7 @@ pub(crate) fn one_by_one(
     let history = (&mut state.history[k], &mut none);
     let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
     let centre = inputs.motion[key.a as usize].position;
-    state.load[k] = crate::contact::Load::new(&r, g.point, centre, None);
+    state.set_load(k, crate::contact::Load::new(&r, g.point, centre, None));
     state.report[k] = crate::contact::LawReport::of(&r);
 }
 
@@ -142,7 +142,7 @@ fn kernel(
 mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
-    use crate::contact::{ContactKey, LawReport, Load, PairKind};
+    use crate::contact::{ContactKey, LawReport, OwnLoad, PairKind, PartnerLoad};
     use crate::contact_law::History;
     use crate::integrate::BodyMotion;
     use crate::math::{DQuat, DVec3};
@@ -255,7 +255,8 @@ mod tests {
             let run = |four_wide: bool| {
                 let mut touching = [false; 4];
                 let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
-                let (mut load, mut report) = ([Load::default(); 4], [LawReport::default(); 4]);
+                let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
+                let mut own = [OwnLoad::default(); 4];
                 let mut state = EntryState {
                     touching: &mut touching,
                     geometry: &mut [],
@@ -263,6 +264,7 @@ mod tests {
                     history: &mut history,
                     spin: &mut [],
                     load: &mut load,
+                    own: &mut own,
                     report: &mut report,
                 };
                 if four_wide {
@@ -282,7 +284,7 @@ mod tests {
                         one_by_one(&inputs, &ids, &mut state, k, dt);
                     }
                 }
-                format!("{touching:?} {history:?} {load:?} {report:?}")
+                format!("{touching:?} {history:?} {load:?} {own:?} {report:?}")
             };
             prop_assert_eq!(run(true), run(false));
         }

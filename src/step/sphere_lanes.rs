@@ -375,8 +375,9 @@ pub(super) fn point_law(
     force
 }
 
-/// Writes the loads (`Load::new`) of the four `entries`: the force on body `a`, its moment, and
-/// the partner's moment (for a wall, the law's couple on `a`), as rows.
+/// Writes the loads (`Load::new`) of the four `entries`: the force on body `a` and its moment
+/// (the contact loop's scratch), and the force and the partner's moment (for a wall, the law's
+/// couple on `a`: the store's), as rows.
 #[inline(always)]
 pub(super) fn store_loads(
     state: &mut EntryState,
@@ -385,14 +386,17 @@ pub(super) fn store_loads(
     torque_a: V3,
     torque_b: V3,
 ) {
-    let load_first = F4::rows([force.x, force.y, force.z, torque_a.x]);
-    let load_second = F4::rows([torque_a.y, torque_a.z, torque_b.x, torque_b.y]);
-    let load_last = torque_b.z.to_array();
+    let own_first = F4::rows([force.x, force.y, force.z, torque_a.x]);
+    let partner_first = F4::rows([force.x, force.y, force.z, torque_b.x]);
+    // (torque_a.y, torque_a.z) in the low halves, (torque_b.y, torque_b.z) in the high ones.
+    let rest = F4::rows([torque_a.y, torque_a.z, torque_b.y, torque_b.z]);
     for (i, &k) in entries.iter().enumerate() {
-        let (first, second, last) = state.load[k].as_rows_mut();
-        load_first[i].store(first);
-        load_second[i].store(second);
-        *last = load_last[i];
+        let (first, second) = state.own[k].as_rows_mut();
+        own_first[i].store(first);
+        rest[i].store2(second);
+        let (first, second) = state.load[k].as_rows_mut();
+        partner_first[i].store(first);
+        rest[i].store_high2(second);
     }
 }
 
@@ -400,7 +404,7 @@ pub(super) fn store_loads(
 pub(super) mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
-    use crate::contact::{ContactKey, LawReport, Load, PairKind, Partner};
+    use crate::contact::{ContactKey, LawReport, OwnLoad, PairKind, Partner, PartnerLoad};
     use crate::contact_law::{NormalLaw, SpinHistory};
     use crate::integrate::BodyMotion;
     use crate::material::{Material, PairTable};
@@ -530,7 +534,8 @@ pub(super) mod tests {
             let run = |four_wide: bool| {
                 let mut touching = [false; 4];
                 let mut history: [History; 4] = std::array::from_fn(|p| start[p]);
-                let (mut load, mut report) = ([Load::default(); 4], [LawReport::default(); 4]);
+                let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
+                let mut own = [OwnLoad::default(); 4];
                 let mut spin: [SpinHistory; 0] = [];
                 let mut state = EntryState {
                     touching: &mut touching,
@@ -539,6 +544,7 @@ pub(super) mod tests {
                     history: &mut history,
                     spin: &mut spin,
                     load: &mut load,
+                    own: &mut own,
                     report: &mut report,
                 };
                 for (k, &key) in key.iter().enumerate() {
@@ -562,7 +568,7 @@ pub(super) mod tests {
                     }
                 }
                 // Debug prints the shortest string that reads back to the same bits.
-                format!("{touching:?} {history:?} {load:?} {report:?}")
+                format!("{touching:?} {history:?} {load:?} {own:?} {report:?}")
             };
             prop_assert_eq!(run(true), run(false));
         }

@@ -7,7 +7,7 @@
 //! same bits; a test below holds them together.
 
 use super::forces::{ended, kinematics, LawInputs};
-use crate::contact::{ContactKey, LawReport, Load};
+use crate::contact::{ContactKey, LawReport, Load, OwnLoad, PartnerLoad};
 use crate::contact_law::{self, History, PairLaw, SpinHistory};
 use crate::narrow_phase;
 
@@ -17,7 +17,9 @@ pub(crate) struct EntryOut<'a> {
     pub history: &'a mut History,
     /// In worlds with rolling friction (see `contact_law::SpinHistory`).
     pub spin: Option<&'a mut SpinHistory>,
-    pub load: &'a mut Load,
+    /// The partner's side of the load (the store's) and body `a`'s (the contact loop's scratch).
+    pub load: &'a mut PartnerLoad,
+    pub own: &'a mut OwnLoad,
     pub report: &'a mut LawReport,
 }
 
@@ -75,7 +77,8 @@ pub(crate) fn overlaps(inputs: &LawInputs, key: ContactKey) -> bool {
 pub(crate) fn apart(out: EntryOut) {
     *out.touching = false;
     let r = ended(out.history, out.spin);
-    *out.load = Load::default();
+    *out.load = PartnerLoad::default();
+    *out.own = OwnLoad::default();
     *out.report = LawReport::of(&r);
 }
 
@@ -117,7 +120,9 @@ pub(crate) fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, 
     } else {
         contact_law::evaluate_point(law, &k, out.history, dt)
     };
-    *out.load = Load::new(&r, g.point, ma.position, Some(mb.position));
+    let load = Load::new(&r, g.point, ma.position, Some(mb.position));
+    *out.load = load.partner_side();
+    *out.own = load.own_side();
     *out.report = LawReport::of(&r);
     *out.touching = true;
 }
@@ -238,12 +243,14 @@ mod tests {
 
             let mut touching = false;
             let (mut history, mut spin) = (start, start_spin);
-            let (mut load, mut report) = (Load::default(), LawReport::default());
+            let (mut load, mut report) = (PartnerLoad::default(), LawReport::default());
+            let mut own = OwnLoad::default();
             let out = EntryOut {
                 touching: &mut touching,
                 history: &mut history,
                 spin: Some(&mut spin),
                 load: &mut load,
+                own: &mut own,
                 report: &mut report,
             };
             sphere_pair(&inputs, key, out, dt);
@@ -267,7 +274,8 @@ mod tests {
                 Some(g) => Load::new(&general, g.point, positions[0], Some(positions[1])),
                 None => Load::default(),
             };
-            prop_assert_eq!(format!("{load:?}"), format!("{general_load:?}"));
+            prop_assert_eq!(format!("{load:?}"), format!("{:?}", general_load.partner_side()));
+            prop_assert_eq!(format!("{own:?}"), format!("{:?}", general_load.own_side()));
             prop_assert_eq!(format!("{report:?}"), format!("{:?}", LawReport::of(&general)));
             prop_assert_eq!(format!("{history:?}"), format!("{general_history:?}"));
             prop_assert_eq!(format!("{spin:?}"), format!("{general_spin:?}"));

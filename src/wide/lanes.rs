@@ -245,6 +245,20 @@ impl F4 {
         }
     }
 
+    /// Writes the first two lanes to `to` (one 128-bit store).
+    #[inline(always)]
+    pub fn store2(self, to: &mut [f64; 2]) {
+        // SAFETY: `to` has room for two numbers.
+        unsafe { _mm_storeu_pd(to.as_mut_ptr(), _mm256_castpd256_pd128(self.0)) }
+    }
+
+    /// Writes the last two lanes to `to` (one 128-bit store).
+    #[inline(always)]
+    pub fn store_high2(self, to: &mut [f64; 2]) {
+        // SAFETY: `to` has room for two numbers.
+        unsafe { _mm_storeu_pd(to.as_mut_ptr(), _mm256_extractf128_pd::<1>(self.0)) }
+    }
+
     /// Writes the four lanes to `to` rounded to single precision, as `f64 as f32` rounds each.
     #[inline(always)]
     pub fn store_f32(self, to: &mut [f32; 4]) {
@@ -278,6 +292,18 @@ impl F4 {
     #[inline(always)]
     pub fn store3(self, to: &mut [f64; 3]) {
         to.copy_from_slice(&self.0[..3]);
+    }
+
+    /// Writes the first two lanes to `to`.
+    #[inline(always)]
+    pub fn store2(self, to: &mut [f64; 2]) {
+        to.copy_from_slice(&self.0[..2]);
+    }
+
+    /// Writes the last two lanes to `to`.
+    #[inline(always)]
+    pub fn store_high2(self, to: &mut [f64; 2]) {
+        to.copy_from_slice(&self.0[2..]);
     }
 
     /// Writes the four lanes to `to` rounded to single precision.
@@ -626,9 +652,12 @@ mod tests {
             let rows = F4::rows(columns.map(F4::new));
             for (i, row) in rows.iter().enumerate() {
                 let (mut four, mut three, mut single) = ([9.0; 4], [9.0; 3], [9.0f32; 4]);
+                let (mut low, mut high) = ([9.0; 2], [9.0; 2]);
                 row.store(&mut four);
                 row.store3(&mut three);
                 row.store_f32(&mut single);
+                row.store2(&mut low);
+                row.store_high2(&mut high);
                 for k in 0..4 {
                     prop_assert!(same(four[k], columns[k][i]));
                     let rounded = columns[k][i] as f32;
@@ -636,6 +665,10 @@ mod tests {
                 }
                 for k in 0..3 {
                     prop_assert!(same(three[k], columns[k][i]));
+                }
+                for k in 0..2 {
+                    prop_assert!(same(low[k], columns[k][i]));
+                    prop_assert!(same(high[k], columns[k + 2][i]));
                 }
             }
         }

@@ -123,7 +123,8 @@ impl World {
             new_index[old as usize] = new as u32;
         }
         self.bodies.permute(order);
-        self.contacts.permute(&new_index, &self.bodies.id);
+        self.contacts
+            .permute(&new_index, &self.bodies.id, &self.bodies.position);
         // The broad phase's lists name bodies by index: it starts afresh, and its first list
         // carries the contacts' histories over.
         self.search.invalidate();

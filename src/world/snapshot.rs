@@ -254,7 +254,8 @@ impl World {
             // A checkpoint of a version that oriented body pairs by index: the contacts are
             // turned and sorted as this version keeps them, and found again from there.
             let identity: Vec<u32> = (0..self.bodies.len() as u32).collect();
-            self.contacts.permute(&identity, &self.bodies.id);
+            self.contacts
+                .permute(&identity, &self.bodies.id, &self.bodies.position);
             self.search.invalidate();
         }
         self.forces_current = state.forces_current;

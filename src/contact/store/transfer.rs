@@ -4,7 +4,7 @@
 
 use super::ContactStore;
 use crate::body::Bodies;
-use crate::contact::{LawReport, Load, Partner};
+use crate::contact::{LawReport, Partner, PartnerLoad};
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
 use crate::narrow_phase::ContactPoint;
 use std::collections::HashMap;
@@ -29,7 +29,7 @@ pub struct EntryRecord {
     pub history: History,
     pub spin: Option<SpinHistory>,
     pub volume: Option<OverlapVolume>,
-    pub load: Load,
+    pub load: PartnerLoad,
     pub report: LawReport,
 }
 
@@ -131,7 +131,7 @@ impl ContactStore {
         if let Some(volume) = self.volume.get_mut(e) {
             *volume = None;
         }
-        self.load[e] = Load::default();
+        self.load[e] = PartnerLoad::default();
         self.report[e] = LawReport::default();
     }
 

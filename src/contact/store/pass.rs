@@ -1,0 +1,215 @@
+//! The store's arrays as a step's contact loop works on them (`step::detect_and_evaluate`): split
+//! into chunks of whole bodies, so that each chunk can add up its bodies' own contacts itself,
+//! and each chunk into runs, whose loads live in the loop's scratch until they are summed.
+
+use super::{ContactStore, EntryIds, EntryState};
+use crate::contact::key::{ContactKey, PairKind};
+use crate::contact::load::{LawReport, OwnLoad, PartnerLoad};
+use crate::contact_law::{History, OverlapVolume, SpinHistory};
+use crate::narrow_phase::ContactPoint;
+use std::ops::Range;
+
+/// About how many entries a chunk of the contact loop holds: it ends at the first body boundary
+/// at or after this many. Small enough to stay in the L1/L2 cache between the narrow phase, the
+/// laws and the own sums, large enough to make the scheduling cost negligible.
+pub const CHUNK_ENTRIES: usize = 256;
+
+/// The store's arrays over a range of its entries. The side arrays a world does not keep
+/// (geometry, volume, spin) are empty, and stay empty when split.
+pub(crate) struct StorePass<'a> {
+    pub key: &'a [ContactKey],
+    pub kind: &'a [PairKind],
+    pub touching: &'a mut [bool],
+    pub geometry: &'a mut [ContactPoint],
+    pub volume: &'a mut [Option<OverlapVolume>],
+    pub history: &'a mut [History],
+    pub spin: &'a mut [SpinHistory],
+    pub report: &'a mut [LawReport],
+    /// The partner's side of each entry's load, which the force sums read.
+    pub load: &'a mut [PartnerLoad],
+}
+
+/// `values` split at `mid`, or two empty slices if `values` is empty (an array not kept).
+fn split_side<T>(values: &mut [T], mid: usize) -> (&mut [T], &mut [T]) {
+    if values.is_empty() {
+        (&mut [], &mut [])
+    } else {
+        values.split_at_mut(mid)
+    }
+}
+
+/// `values[run]`, or an empty slice if `values` is empty (an array not kept).
+fn side_run<T>(values: &mut [T], run: Range<usize>) -> &mut [T] {
+    if values.is_empty() {
+        values
+    } else {
+        &mut values[run]
+    }
+}
+
+impl<'a> StorePass<'a> {
+    pub fn len(&self) -> usize {
+        self.key.len()
+    }
+
+    /// The entries before `mid` and from `mid` on.
+    pub fn split_at(self, mid: usize) -> (Self, Self) {
+        let (key, key_rest) = self.key.split_at(mid);
+        let (kind, kind_rest) = self.kind.split_at(mid);
+        let (touching, touching_rest) = self.touching.split_at_mut(mid);
+        let (geometry, geometry_rest) = split_side(self.geometry, mid);
+        let (volume, volume_rest) = split_side(self.volume, mid);
+        let (history, history_rest) = self.history.split_at_mut(mid);
+        let (spin, spin_rest) = split_side(self.spin, mid);
+        let (report, report_rest) = self.report.split_at_mut(mid);
+        let (load, load_rest) = self.load.split_at_mut(mid);
+        (
+            StorePass {
+                key,
+                kind,
+                touching,
+                geometry,
+                volume,
+                history,
+                spin,
+                report,
+                load,
+            },
+            StorePass {
+                key: key_rest,
+                kind: kind_rest,
+                touching: touching_rest,
+                geometry: geometry_rest,
+                volume: volume_rest,
+                history: history_rest,
+                spin: spin_rest,
+                report: report_rest,
+                load: load_rest,
+            },
+        )
+    }
+
+    /// The entries `run` as the contact laws see them, numbered from 0, with `own` (as long as
+    /// the run) for body `a`'s side of their loads.
+    pub fn run<'b>(
+        &'b mut self,
+        run: Range<usize>,
+        own: &'b mut [OwnLoad],
+    ) -> (EntryIds<'b>, EntryState<'b>) {
+        (
+            EntryIds {
+                key: &self.key[run.clone()],
+                kind: &self.kind[run.clone()],
+            },
+            EntryState {
+                touching: &mut self.touching[run.clone()],
+                geometry: side_run(self.geometry, run.clone()),
+                volume: side_run(self.volume, run.clone()),
+                history: &mut self.history[run.clone()],
+                spin: side_run(self.spin, run.clone()),
+                load: &mut self.load[run.clone()],
+                own,
+                report: &mut self.report[run],
+            },
+        )
+    }
+}
+
+/// Where the contact loop's chunks start: `bodies[c]` is chunk `c`'s first body (the last
+/// number is the count of bodies), and `own[i]` body `i`'s first entry.
+#[derive(Clone, Copy)]
+pub(crate) struct Chunks<'a> {
+    pub bodies: &'a [u32],
+    pub own: &'a [u32],
+}
+
+impl Chunks<'_> {
+    /// Number of chunks.
+    pub fn len(&self) -> usize {
+        self.bodies.len().saturating_sub(1)
+    }
+
+    /// The first entry of chunk `c` (`c` = [`Chunks::len`]: the end of the last).
+    pub fn first_entry(&self, c: usize) -> usize {
+        self.own[self.bodies[c] as usize] as usize
+    }
+}
+
+/// The chunks' first bodies (see [`Chunks`]) over the bodies' first entries `own` (one more than
+/// the bodies): each chunk ends at the first body boundary at or after [`CHUNK_ENTRIES`] entries,
+/// so a body's entries are all in one chunk.
+pub(super) fn chunk_bodies(own: &[u32], bodies: &mut Vec<u32>) {
+    bodies.clear();
+    let count = own.len().saturating_sub(1);
+    bodies.push(0);
+    let mut first = 0;
+    for i in 0..count {
+        if (own[i + 1] - first) as usize >= CHUNK_ENTRIES && i + 1 < count {
+            bodies.push(i as u32 + 1);
+            first = own[i + 1];
+        }
+    }
+    bodies.push(count as u32);
+}
+
+impl ContactStore {
+    /// The entries for a step's pass, with where its chunks start.
+    pub(crate) fn pass_mut(&mut self) -> (StorePass<'_>, Chunks<'_>) {
+        // The chunks are not kept in checkpoints.
+        if self.chunks.is_empty() && !self.own.is_empty() {
+            chunk_bodies(&self.own, &mut self.chunks);
+        }
+        debug_assert!(
+            self.entries.key.is_empty() || !self.own.is_empty(),
+            "a pass over a store whose index lists are stale"
+        );
+        let e = &mut self.entries;
+        (
+            StorePass {
+                key: &e.key,
+                kind: &e.kind,
+                touching: &mut e.touching,
+                geometry: &mut e.geometry,
+                volume: &mut self.volume,
+                history: &mut e.history,
+                spin: &mut e.spin,
+                report: &mut self.report,
+                load: &mut self.load,
+            },
+            Chunks {
+                bodies: &self.chunks,
+                own: &self.own,
+            },
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The chunks of bodies with `entries[i]` entries each.
+    fn chunks_of(entries: &[u32]) -> Vec<u32> {
+        let mut own = vec![0];
+        for &n in entries {
+            own.push(own.last().unwrap() + n);
+        }
+        let mut bodies = Vec::new();
+        chunk_bodies(&own, &mut bodies);
+        bodies
+    }
+
+    #[test]
+    fn chunks_end_at_the_first_body_boundary_past_the_chunk_size() {
+        let n = CHUNK_ENTRIES as u32;
+        // Three bodies of n/2 + 1 entries: the first two pass n, the third is a chunk alone.
+        assert_eq!(chunks_of(&[n / 2 + 1, n / 2 + 1, n / 2 + 1]), vec![0, 2, 3]);
+        // A body with more than a chunk's worth of entries ends its chunk, whole.
+        assert_eq!(chunks_of(&[1, 3 * n, 1]), vec![0, 2, 3]);
+        // Exactly n entries close a chunk; bodies without entries go with the next.
+        assert_eq!(chunks_of(&[n, 0, 0, 1]), vec![0, 1, 4]);
+        // No bodies: no chunks; bodies without entries: one chunk.
+        assert_eq!(chunks_of(&[]), vec![0, 0]);
+        assert_eq!(chunks_of(&[0, 0]), vec![0, 2]);
+    }
+}
