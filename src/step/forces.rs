@@ -206,8 +206,8 @@ pub(crate) fn evaluate(
 ) -> f64 {
     own.force.fill(DVec3::ZERO);
     own.torque.fill(DVec3::ZERO);
-    SCRATCH.with_borrow_mut(|scratch| {
-        let Scratch { sorted, own_loads } = &mut **scratch;
+    let mut evaluate_runs = |scratch: &mut Scratch| {
+        let Scratch { sorted, own_loads } = scratch;
         let mut dissipated = 0.0;
         let (keys, count) = (pass.key, pass.len());
         for start in (0..count).step_by(RUN) {
@@ -219,6 +219,11 @@ pub(crate) fn evaluate(
             add_own_loads(&ids, &state, &mut own, first_body);
         }
         dissipated
+    };
+    SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+        Ok(mut scratch) => evaluate_runs(&mut scratch),
+        // A pass nested in another on this thread (none is today): scratch of its own.
+        Err(_) => evaluate_runs(&mut Scratch::new()),
     })
 }
 
@@ -251,11 +256,17 @@ struct Scratch {
     own_loads: [OwnLoad; RUN],
 }
 
+impl Scratch {
+    fn new() -> Box<Self> {
+        Box::new(Scratch {
+            sorted: Sorted::default(),
+            own_loads: [OwnLoad::default(); RUN],
+        })
+    }
+}
+
 thread_local! {
-    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::new(Scratch {
-        sorted: Sorted::default(),
-        own_loads: [OwnLoad::default(); RUN],
-    }));
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Scratch::new());
 }
 
 /// The sums of a run of bodies' own contacts (those where the body is `a`): the bodies' force and
