@@ -1,7 +1,8 @@
 //! Stages 3 and 4 of the contact pipeline: the contact laws give every touching contact its force,
-//! moment and energy figures (one loop over the store, in parallel, each contact writing only its
-//! own response), and the responses are summed onto the bodies (in parallel over bodies, each body
-//! adding its own contacts in store order, so the sums are bit-identical for any thread count).
+//! moment and energy figures (one loop over the store, in parallel chunks of whole bodies, each
+//! contact writing only its own response, each chunk adding up its bodies' own contacts), and the
+//! sums are completed with the contacts whose partner each body is (in parallel over bodies, in
+//! store order, so the sums are bit-identical for any thread count).
 
 use crate::body::Bodies;
 use crate::contact::{
@@ -190,9 +191,10 @@ impl LawInputs<'_> {
 /// dissipated over the step, summed in entry order (those of a ghost's contacts left to its
 /// owner).
 ///
-/// Each run's loads are kept in a scratch array: the partner's side goes into the store for the
-/// force sums, and body `a`'s side is added into `own`, the chunk's bodies' sums, in store order
-/// (the order [`accumulate`] added them in before, so the same bits), while still in the cache.
+/// The laws write each load's partner side into the store, for [`accumulate`], and body `a`'s
+/// side into the thread's scratch, which is added into `own` (the chunk's bodies' sums) after
+/// each run, in store order, while still in the cache (the order `accumulate` once added them
+/// in, so the same bits).
 ///
 /// Relies on what the store keeps true between steps: an entry that does not touch holds no
 /// history, a zero load and a zero report. A sphere pair that was apart and stays apart is then

@@ -4,11 +4,14 @@
 //!    when something has moved more than half the skin);
 //! 2. [`detect`] — the narrow phase: the contact geometry of every candidate, into the contact
 //!    store (pairs that may touch in several places first, then the rest);
-//! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact;
-//! 4. [`forces::accumulate`] — the sums onto the bodies; [`wall_loads`] the reactions on the walls.
+//! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact, and
+//!    each body's sum of its own contacts' loads;
+//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is;
+//!    [`wall_loads`] the reactions on the walls.
 //!
-//! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]), so that a chunk's
-//! entries are still in cache when the laws read what the narrow phase wrote.
+//! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]; a chunk holds the
+//! entries of whole bodies), so that a chunk's entries are still in cache when the laws read what
+//! the narrow phase wrote, and its loads when they are added up.
 //! `World::update_forces` (src/world.rs) runs the stages in order.
 
 #[macro_use]
