@@ -4,21 +4,23 @@
 //! side (issue #18). A large sphere among small ones has more own entries than one run of the
 //! loop holds, so its sum runs across runs.
 
+mod common;
+
 use polydem::body::BodyInit;
 use polydem::contact::CHUNK_ENTRIES;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::rng::SplitMix64;
 use polydem::shape::{Shape, Sphere};
-use polydem::{World, WorldConfig};
+use polydem::World;
 
 /// Small spheres around the large one: on a sphere of radius about 21 mm, 3.6 mm apart (they
 /// do not reach each other), each pressed 10 µm into the large sphere.
 const SMALL: usize = 400;
 
 /// A 20 mm sphere (added first: the smaller id, so body `a` of every pair) with [`SMALL`]
-/// 1 mm spheres on its surface, with random velocities and spins, and no gravity or walls.
+/// 1 mm spheres on its surface, with random velocities and spins, in the middle of a box 0.2 m
+/// wide whose walls none comes near.
 fn world(threads: usize) -> World {
     let material = Material {
         name: "grain".into(),
@@ -29,23 +31,8 @@ fn world(threads: usize) -> World {
         friction: 0.5,
         rolling_friction: 0.0,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    let mut w = World::new(WorldConfig {
-        time_step: 1e-6,
-        gravity: DVec3::ZERO,
-        materials: vec![material],
-        pair_laws: laws,
-        planes: vec![],
-        broad_phase: Default::default(),
-        skin: None,
-        threads,
-    })
-    .unwrap();
+    let mut w = common::open_box_world(material, 0.2, 1e-6, Default::default(), threads);
+    let centre = DVec3::splat(0.1);
     let (big, small) = (0.02, 0.001);
     let body = |radius: f64, position: DVec3, velocity: DVec3, angular_velocity: DVec3| BodyInit {
         shape: Shape::Sphere(Sphere::new(radius)),
@@ -55,7 +42,7 @@ fn world(threads: usize) -> World {
         velocity,
         angular_velocity,
     };
-    w.add_body(body(big, DVec3::ZERO, DVec3::ZERO, DVec3::Z * 3.0));
+    w.add_body(body(big, centre, DVec3::ZERO, DVec3::Z * 3.0));
     let mut rng = SplitMix64::new(7);
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     for k in 0..SMALL {
@@ -64,7 +51,7 @@ fn world(threads: usize) -> World {
         let (s, phi) = ((1.0 - z * z).sqrt(), golden * k as f64);
         let direction = DVec3::new(s * phi.cos(), s * phi.sin(), z);
         let mut random = || DVec3::new(rng.normal(), rng.normal(), rng.normal());
-        let position = direction * (big + small - 1e-5);
+        let position = centre + direction * (big + small - 1e-5);
         w.add_body(body(small, position, random() * 0.01, random() * 10.0));
     }
     w
@@ -93,7 +80,7 @@ fn a_bodys_sum_is_its_own_loads_then_its_incoming_ones_across_runs_of_the_loop()
             force += loads[e].force;
             // Body a's moment, which the store does not keep, from the balance of moments:
             // τ_a + τ_b = (c_b − c_a) × F.
-            let partner = store.keys()[e].partner.body().expect("body pairs only") as usize;
+            let partner = store.keys()[e].partner.body().expect("no wall is near") as usize;
             let arm = bodies.position[partner] - bodies.position[i];
             torque += arm.cross(loads[e].force) - loads[e].torque_b;
             scale += arm.length() * loads[e].force.length();
