@@ -10,6 +10,7 @@ pub mod broad_phase;
 pub mod checkpoint;
 pub mod contact;
 pub mod contact_law;
+pub mod counting_sort;
 pub mod decomposition;
 pub mod energy;
 pub mod flow;

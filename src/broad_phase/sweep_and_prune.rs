@@ -110,6 +110,10 @@ pub struct SweepAndPrune {
     partners: Vec<Vec<Partner>>,
     /// Whether the lists describe the boxes of the previous call.
     initialised: bool,
+    /// Working memory of [`write_pairs`].
+    pair_starts: Vec<usize>,
+    /// Per work item of an update, the boxes whose regions change, with their new ones.
+    changed: Vec<Vec<(u32, Range)>>,
     /// Rough cost of a full rebuild, in swap-sized units: an update gives up beyond it.
     rebuild_cost: usize,
     /// For a rebuild's pairs when it is cheaper than the sweeps (dense packings of similar sizes).
@@ -471,12 +475,28 @@ impl SweepAndPrune {
         // Work of the removals and insertions: a pass over the region's members each.
         let mut work = 0usize;
         let grid = self.grid;
-        for (i, b) in boxes.iter().enumerate() {
+        // The boxes whose regions change (few), found in parallel, each work item's in a list of
+        // its own, then taken in order.
+        let per_item = boxes.len().div_ceil(WORK_ITEMS).max(1);
+        self.changed.resize_with(WORK_ITEMS, Vec::new);
+        self.changed.iter_mut().for_each(Vec::clear);
+        boxes
+            .par_chunks(per_item)
+            .zip(self.range.par_chunks(per_item))
+            .zip(self.changed.par_iter_mut())
+            .enumerate()
+            .for_each(|(item, ((boxes, ranges), changed))| {
+                let first = (item * per_item) as u32;
+                for ((i, b), old) in (first..).zip(boxes).zip(ranges) {
+                    let new = grid.membership(b, old);
+                    if new != *old {
+                        changed.push((i, new));
+                    }
+                }
+            });
+        for &(i, new) in self.changed.iter().flatten() {
+            let i = i as usize;
             let old = self.range[i];
-            let new = grid.membership(b, &old);
-            if new == old {
-                continue;
-            }
             for c in regions_of(old).filter(|&c| !contains(&new, c)) {
                 let id = grid.id(c);
                 work += self.regions[id].len() + 1;
@@ -568,15 +588,60 @@ impl BroadPhase for SweepAndPrune {
             self.skip = self.backoff;
             self.rebuild(boxes, pairs);
         }
-        pairs.clear();
-        for (i, partners) in self.partners.iter().enumerate() {
-            pairs.extend(partners.iter().map(|p| (i as u32, p.body)));
-        }
+        write_pairs(&self.partners, &mut self.pair_starts, pairs);
     }
 
     fn name(&self) -> &'static str {
         "sweep_and_prune"
     }
+}
+
+/// Bodies per block of [`write_pairs`].
+const PAIR_BLOCK: usize = 2048;
+
+/// The pairs of the candidate set, ascending: body by body, each body's partners. Written in
+/// parallel by blocks of bodies, each block's place in the list counted first (`starts`, kept
+/// from call to call).
+fn write_pairs(partners: &[Vec<Partner>], starts: &mut Vec<usize>, pairs: &mut Vec<Pair>) {
+    starts.clear();
+    starts.push(0);
+    let mut total = 0;
+    for block in partners.chunks(PAIR_BLOCK) {
+        total += block.iter().map(Vec::len).sum::<usize>();
+        starts.push(total);
+    }
+    pairs.clear();
+    pairs.resize(total, (0, 0));
+    write_blocks(partners, starts, 0, pairs);
+}
+
+/// The pairs of the blocks of `partners` (whose first body is `first`) into `out`: halved until
+/// one block is left, the halves in parallel. `starts`: each block's place, and the end.
+fn write_blocks(partners: &[Vec<Partner>], starts: &[usize], first: usize, out: &mut [Pair]) {
+    let blocks = starts.len() - 1;
+    if blocks <= 1 {
+        let pairs = (first as u32..)
+            .zip(partners)
+            .flat_map(|(i, list)| list.iter().map(move |p| (i, p.body)));
+        for (slot, pair) in out.iter_mut().zip(pairs) {
+            *slot = pair;
+        }
+        return;
+    }
+    let mid = blocks / 2;
+    let (lists, lists_rest) = partners.split_at(mid * PAIR_BLOCK);
+    let (out, out_rest) = out.split_at_mut(starts[mid] - starts[0]);
+    rayon::join(
+        || write_blocks(lists, &starts[..=mid], first, out),
+        || {
+            write_blocks(
+                lists_rest,
+                &starts[mid..],
+                first + mid * PAIR_BLOCK,
+                out_rest,
+            )
+        },
+    );
 }
 
 /// Rough number of box tests a [`CellGrid`] makes: 27 cells of bodies per body, cells no smaller

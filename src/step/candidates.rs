@@ -10,6 +10,7 @@
 use crate::body::Bodies;
 use crate::broad_phase::{self, BroadPhase, Pair};
 use crate::contact::{Candidate, PairKind, Partner, ShapeTraits};
+use crate::counting_sort::CountingSort;
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::wall::{MeshWall, Plane, WallPose};
@@ -33,10 +34,9 @@ pub struct NeighbourSearch {
     wall_candidates: Vec<(u32, Partner)>,
     /// The candidates, in the store's order ([`Candidate::order`]).
     list: Vec<Candidate>,
-    /// Working memory of the list's counting sort: each body's first candidate, and the next
-    /// free place of each body's run.
+    /// Working memory of the list's counting sort, and each body's first candidate.
+    sort: CountingSort,
     first: Vec<u32>,
-    next: Vec<u32>,
     /// Times the list was made (for diagnostics and tests).
     pub rebuilds: u64,
 }
@@ -65,8 +65,8 @@ impl NeighbourSearch {
             keep: Vec::new(),
             wall_candidates: Vec::new(),
             list: Vec::new(),
+            sort: CountingSort::default(),
             first: Vec::new(),
-            next: Vec::new(),
             rebuilds: 0,
         }
     }
@@ -143,9 +143,9 @@ impl NeighbourSearch {
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
         // Boxes overlap more often than the bounding spheres come within a skin of each other
-        // (by about 6/π): keep only the pairs that can touch before the next search. Which ones is
-        // found in parallel (a distance each, the bodies read at random), the list then closed up
-        // in order.
+        // (by about 6/π): keep only the pairs that can touch before the next search (found in
+        // parallel, a distance each, the bodies read at random; the others are left out of the
+        // list when it is made).
         let (x, r) = (&bodies.position, &bodies.bounding_radius);
         let skin = self.skin;
         self.keep.clear();
@@ -154,8 +154,6 @@ impl NeighbourSearch {
             let reach = r[i] + r[j] + skin;
             (x[i] - x[j]).length_squared() <= reach * reach
         }));
-        let mut keep = self.keep.iter();
-        self.pairs.retain(|_| keep.next() == Some(&true));
         self.find_wall_candidates(bodies, planes, walls);
         self.merge(bodies, shapes);
         self.reference_position.clone_from(&bodies.position);
@@ -230,10 +228,10 @@ impl NeighbourSearch {
         );
     }
 
-    /// One list in the store's order ([`Candidate::order`]) from the body pairs and the wall
+    /// One list in the store's order ([`Candidate::order`]) from the body pairs kept and the wall
     /// candidates: each body pair oriented by global id (body `a` the one with the smaller id, so
     /// that the pair is seen from the same side however the bodies are numbered), placed by `a`
-    /// (a counting sort), then each body's short run sorted by its partners' rank.
+    /// (a counting sort, in parallel), then each body's short run sorted by its partners' rank.
     fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) {
         let ids = &bodies.id;
         let traits = |i: u32| {
@@ -243,56 +241,40 @@ impl NeighbourSearch {
                 regional: shape.has_regions(),
             }
         };
-        let oriented = |&(i, j): &Pair| {
-            if ids[i as usize] < ids[j as usize] {
-                (i, j)
-            } else {
-                (j, i)
+        let (pairs, keep, walls) = (&self.pairs, &self.keep, &self.wall_candidates);
+        // Candidate `k`: body pair `k` (if kept), else wall candidate `k - pairs.len()`.
+        let oriented = |k: usize| -> (u32, Partner) {
+            match pairs.get(k) {
+                Some(&(i, j)) if ids[i as usize] < ids[j as usize] => (i, Partner::Body(j)),
+                Some(&(i, j)) => (j, Partner::Body(i)),
+                None => walls[k - pairs.len()],
             }
         };
-        let first = &mut self.first;
-        first.clear();
-        first.resize(bodies.len() + 1, 0);
-        for pair in &self.pairs {
-            first[oriented(pair).0 as usize + 1] += 1;
-        }
-        for &(a, _) in &self.wall_candidates {
-            first[a as usize + 1] += 1;
-        }
-        for i in 0..bodies.len() {
-            first[i + 1] += first[i];
-        }
-        let unset = Candidate {
-            a: 0,
-            partner: Partner::Body(0),
-            kind: PairKind::Single,
+        let body_a = |k: usize| match keep.get(k) {
+            Some(false) => None,
+            _ => Some(oriented(k).0),
         };
-        self.list.clear();
-        self.list.resize(first[bodies.len()] as usize, unset);
-        let next = &mut self.next;
-        next.clear();
-        next.extend_from_slice(&first[..bodies.len()]);
-        let mut place = |c: Candidate| {
-            let slot = &mut next[c.a as usize];
-            self.list[*slot as usize] = c;
-            *slot += 1;
-        };
-        for pair in &self.pairs {
-            let (a, b) = oriented(pair);
-            let partner = Partner::Body(b);
-            place(Candidate {
+        let candidate = |k: usize| {
+            let (a, partner) = oriented(k);
+            let b = match partner {
+                Partner::Body(b) => Some(traits(b)),
+                _ => None,
+            };
+            Candidate {
                 a,
                 partner,
-                kind: PairKind::of(traits(a), partner, Some(traits(b))),
-            });
-        }
-        for &(a, partner) in &self.wall_candidates {
-            place(Candidate {
-                a,
-                partner,
-                kind: PairKind::of(traits(a), partner, None),
-            });
-        }
+                kind: PairKind::of(traits(a), partner, b),
+            }
+        };
+        let items = pairs.len() + walls.len();
+        self.sort.group(
+            items,
+            bodies.len(),
+            body_a,
+            candidate,
+            &mut self.first,
+            &mut self.list,
+        );
         // Each body's run (the bodies' runs in parallel: the list is grouped by body `a`).
         self.list
             .par_chunk_by_mut(|x, y| x.a == y.a)
