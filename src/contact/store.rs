@@ -17,12 +17,11 @@ use super::load::{LawReport, Load, OwnLoad, PartnerLoad};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
-use crate::counting_sort::CountingSort;
+use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{permute_in_place, DVec3};
 use crate::narrow_phase::{self, ContactPoint, Geometry};
 use crate::shape::Shape;
 use crate::wall::Plane;
-use rayon::prelude::*;
 
 mod pass;
 mod relocate;
@@ -143,8 +142,6 @@ pub struct ContactStore {
     fates: Vec<u32>,
     #[serde(skip)]
     targets: Vec<u32>,
-    #[serde(skip)]
-    sort: CountingSort,
 }
 
 /// Which arrays a world's store keeps beside those every entry has: what its bodies and walls can
@@ -184,27 +181,6 @@ fn resize_tight<T: Clone>(values: &mut Vec<T>, len: usize, value: T) {
         values.reserve_exact(len + len / 8 - values.len());
     }
     values.resize(len, value);
-}
-
-/// `own[i]`: the first of the entries `keys` (grouped by body `a`, ascending) whose `a` is `i`
-/// or more, for each of the `bodies` and one past them. In parallel: each block of bodies finds
-/// where its entries start by bisection, then walks them.
-fn run_starts(keys: &[ContactKey], bodies: usize, own: &mut Vec<u32>) {
-    const BLOCK: usize = 4096;
-    own.clear();
-    own.resize(bodies + 1, 0);
-    own.par_chunks_mut(BLOCK)
-        .enumerate()
-        .for_each(|(block, starts)| {
-            let first_body = block * BLOCK;
-            let mut e = keys.partition_point(|k| (k.a as usize) < first_body);
-            for (body, start) in (first_body..).zip(starts) {
-                while e < keys.len() && (keys[e].a as usize) < body {
-                    e += 1;
-                }
-                *start = e as u32;
-            }
-        });
 }
 
 impl ContactStore {
@@ -332,40 +308,45 @@ impl ContactStore {
         lost
     }
 
-    /// Builds the per-body index lists (each body's run of own entries; its incoming entries by
-    /// a counting sort, in parallel, each body's list then sorted by the global id of their `a`),
-    /// linear in the entries.
+    /// Builds the per-body index lists (counting sorts, linear in the entries), each body's
+    /// incoming entries sorted by the global id of their `a` (short lists).
     fn index(&mut self, ids: &[u64]) {
         let bodies = ids.len();
         let keys = &self.entries.key;
-        run_starts(keys, bodies, &mut self.own);
-        pass::chunk_bodies(&self.own, &mut self.chunks);
+        self.own.clear();
+        self.own.resize(bodies + 1, 0);
+        self.incoming_first.clear();
+        self.incoming_first.resize(bodies + 1, 0);
         self.wall_entries.clear();
-        self.wall_entries.par_extend(
-            (0..keys.len() as u32)
-                .into_par_iter()
-                .filter(|&e| !matches!(keys[e as usize].partner, Partner::Body(_))),
-        );
-        let partner = |e: usize| match keys[e].partner {
-            Partner::Body(j) => Some(j),
-            _ => None,
-        };
-        self.sort.group(
-            keys.len(),
-            bodies,
-            partner,
-            |e| e as u32,
-            &mut self.incoming_first,
-            &mut self.incoming,
-        );
-        // Each body's list (in parallel: the lists are grouped by partner).
+        for (e, k) in keys.iter().enumerate() {
+            self.own[k.a as usize + 1] += 1;
+            match k.partner {
+                Partner::Body(j) => self.incoming_first[j as usize + 1] += 1,
+                _ => self.wall_entries.push(e as u32),
+            }
+        }
+        for i in 0..bodies {
+            self.own[i + 1] += self.own[i];
+            self.incoming_first[i + 1] += self.incoming_first[i];
+        }
+        pass::chunk_bodies(&self.own, &mut self.chunks);
+        self.incoming.clear();
         self.incoming
-            .par_chunk_by_mut(|&x, &y| keys[x as usize].partner == keys[y as usize].partner)
-            .for_each(|list| {
-                list.sort_unstable_by_key(|&e| {
-                    (ids[keys[e as usize].a as usize], keys[e as usize].region)
-                })
-            });
+            .resize(self.incoming_first[bodies] as usize, 0);
+        let mut next: Vec<u32> = self.incoming_first[..bodies].to_vec();
+        for (e, k) in keys.iter().enumerate() {
+            if let Partner::Body(j) = k.partner {
+                let slot = &mut next[j as usize];
+                self.incoming[*slot as usize] = e as u32;
+                *slot += 1;
+            }
+        }
+        // Each body's list (the bodies' lists in parallel).
+        for_each_group_mut(&mut self.incoming, &self.incoming_first, |list| {
+            sort_short_by_key(list, |&e| {
+                (ids[keys[e as usize].a as usize], keys[e as usize].region)
+            })
+        });
     }
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed

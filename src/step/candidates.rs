@@ -10,7 +10,7 @@
 use crate::body::Bodies;
 use crate::broad_phase::{self, BroadPhase, Pair};
 use crate::contact::{Candidate, PairKind, Partner, ShapeTraits};
-use crate::counting_sort::CountingSort;
+use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::wall::{MeshWall, Plane, WallPose};
@@ -29,14 +29,15 @@ pub struct NeighbourSearch {
     valid: bool,
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
-    /// Which of `pairs` come within a skin (working memory of the search).
-    keep: Vec<bool>,
+    /// Per block of `pairs`, how many were kept (working memory of the search).
+    kept: Vec<usize>,
     wall_candidates: Vec<(u32, Partner)>,
     /// The candidates, in the store's order ([`Candidate::order`]).
     list: Vec<Candidate>,
-    /// Working memory of the list's counting sort, and each body's first candidate.
-    sort: CountingSort,
+    /// Working memory of the list's counting sort: each body's first candidate, and the next
+    /// free place of each body's run.
     first: Vec<u32>,
+    next: Vec<u32>,
     /// Times the list was made (for diagnostics and tests).
     pub rebuilds: u64,
 }
@@ -62,11 +63,11 @@ impl NeighbourSearch {
             valid: false,
             boxes: Vec::new(),
             pairs: Vec::new(),
-            keep: Vec::new(),
+            kept: Vec::new(),
             wall_candidates: Vec::new(),
             list: Vec::new(),
-            sort: CountingSort::default(),
             first: Vec::new(),
+            next: Vec::new(),
             rebuilds: 0,
         }
     }
@@ -142,18 +143,7 @@ impl NeighbourSearch {
                 .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
-        // Boxes overlap more often than the bounding spheres come within a skin of each other
-        // (by about 6/π): keep only the pairs that can touch before the next search (found in
-        // parallel, a distance each, the bodies read at random; the others are left out of the
-        // list when it is made).
-        let (x, r) = (&bodies.position, &bodies.bounding_radius);
-        let skin = self.skin;
-        self.keep.clear();
-        self.keep.par_extend(self.pairs.par_iter().map(|&(i, j)| {
-            let (i, j) = (i as usize, j as usize);
-            let reach = r[i] + r[j] + skin;
-            (x[i] - x[j]).length_squared() <= reach * reach
-        }));
+        self.keep_near_pairs(bodies);
         self.find_wall_candidates(bodies, planes, walls);
         self.merge(bodies, shapes);
         self.reference_position.clone_from(&bodies.position);
@@ -228,10 +218,44 @@ impl NeighbourSearch {
         );
     }
 
-    /// One list in the store's order ([`Candidate::order`]) from the body pairs kept and the wall
-    /// candidates: each body pair oriented by global id (body `a` the one with the smaller id, so
-    /// that the pair is seen from the same side however the bodies are numbered), placed by `a`
-    /// (a counting sort, in parallel), then each body's short run sorted by its partners' rank.
+    /// Keeps the body pairs that can touch before the next search, each seen from body `a`.
+    ///
+    /// Boxes overlap more often than the bounding spheres come within a skin of each other (by
+    /// about 6/π). In parallel by blocks of pairs (a distance each, the bodies read at random):
+    /// each block closes up its kept pairs at its front with no branch on the coin toss of
+    /// keeping one (a mispredicted branch a pair cost more than the rest), each oriented by
+    /// global id (body `a` the one with the smaller id, so that the pair is seen from the same
+    /// side however the bodies are numbered); then the blocks are closed up in order.
+    fn keep_near_pairs(&mut self, bodies: &Bodies) {
+        const BLOCK: usize = 4096;
+        let (x, r, ids) = (&bodies.position, &bodies.bounding_radius, &bodies.id);
+        let skin = self.skin;
+        self.kept.clear();
+        self.kept
+            .par_extend(self.pairs.par_chunks_mut(BLOCK).map(|block| {
+                let mut kept = 0;
+                for k in 0..block.len() {
+                    let (i, j) = block[k];
+                    let (iu, ju) = (i as usize, j as usize);
+                    let reach = r[iu] + r[ju] + skin;
+                    let near = (x[iu] - x[ju]).length_squared() <= reach * reach;
+                    block[kept] = if ids[iu] < ids[ju] { (i, j) } else { (j, i) };
+                    kept += near as usize;
+                }
+                kept
+            }));
+        let mut end = 0;
+        for (b, &kept) in self.kept.iter().enumerate() {
+            let start = b * BLOCK;
+            self.pairs.copy_within(start..start + kept, end);
+            end += kept;
+        }
+        self.pairs.truncate(end);
+    }
+
+    /// One list in the store's order ([`Candidate::order`]) from the body pairs kept (each seen
+    /// from its `a`) and the wall candidates: placed by `a` (a counting sort), then each body's
+    /// short run sorted by its partners' rank (the runs in parallel).
     fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) {
         let ids = &bodies.id;
         let traits = |i: u32| {
@@ -241,21 +265,16 @@ impl NeighbourSearch {
                 regional: shape.has_regions(),
             }
         };
-        let (pairs, keep, walls) = (&self.pairs, &self.keep, &self.wall_candidates);
-        // Candidate `k`: body pair `k` (if kept), else wall candidate `k - pairs.len()`.
-        let oriented = |k: usize| -> (u32, Partner) {
+        let (pairs, walls) = (&self.pairs, &self.wall_candidates);
+        // Candidate `k`: body pair `k`, then wall candidate `k - pairs.len()`.
+        let seen_from_a = |k: usize| -> (u32, Partner) {
             match pairs.get(k) {
-                Some(&(i, j)) if ids[i as usize] < ids[j as usize] => (i, Partner::Body(j)),
-                Some(&(i, j)) => (j, Partner::Body(i)),
+                Some(&(a, b)) => (a, Partner::Body(b)),
                 None => walls[k - pairs.len()],
             }
         };
-        let body_a = |k: usize| match keep.get(k) {
-            Some(false) => None,
-            _ => Some(oriented(k).0),
-        };
         let candidate = |k: usize| {
-            let (a, partner) = oriented(k);
+            let (a, partner) = seen_from_a(k);
             let b = match partner {
                 Partner::Body(b) => Some(traits(b)),
                 _ => None,
@@ -266,19 +285,35 @@ impl NeighbourSearch {
                 kind: PairKind::of(traits(a), partner, b),
             }
         };
+        let first = &mut self.first;
+        first.clear();
+        first.resize(bodies.len() + 1, 0);
         let items = pairs.len() + walls.len();
-        self.sort.group(
-            items,
-            bodies.len(),
-            body_a,
-            candidate,
-            &mut self.first,
-            &mut self.list,
-        );
-        // Each body's run (the bodies' runs in parallel: the list is grouped by body `a`).
-        self.list
-            .par_chunk_by_mut(|x, y| x.a == y.a)
-            .for_each(|run| run.sort_unstable_by_key(|c| c.partner.rank(ids)));
+        for k in 0..items {
+            first[seen_from_a(k).0 as usize + 1] += 1;
+        }
+        for i in 0..bodies.len() {
+            first[i + 1] += first[i];
+        }
+        let unset = Candidate {
+            a: 0,
+            partner: Partner::Body(0),
+            kind: PairKind::Single,
+        };
+        self.list.clear();
+        self.list.resize(items, unset);
+        let next = &mut self.next;
+        next.clear();
+        next.extend_from_slice(&first[..bodies.len()]);
+        for k in 0..items {
+            let slot = &mut next[seen_from_a(k).0 as usize];
+            self.list[*slot as usize] = candidate(k);
+            *slot += 1;
+        }
+        // Each body's run (the bodies' runs in parallel).
+        for_each_group_mut(&mut self.list, &self.first, |run| {
+            sort_short_by_key(run, |c| c.partner.rank(ids))
+        });
     }
 }
 
