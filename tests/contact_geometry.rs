@@ -8,7 +8,6 @@ mod common;
 
 use polydem::body::BodyInit;
 use polydem::contact::{ContactRef, Partner};
-use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::narrow_phase::{sphere_plane, sphere_sphere};
 use polydem::rng::SplitMix64;
@@ -20,15 +19,7 @@ use polydem::World;
 /// with the floor and the side walls after 4,000 steps. With `far_wall`, a mesh wall 1 m above
 /// them that none reaches.
 fn pour(far_wall: bool) -> World {
-    let material = Material {
-        name: "grain".into(),
-        density: 2500.0,
-        youngs_modulus: 1e7,
-        poisson_ratio: 0.25,
-        restitution: 0.5,
-        friction: 0.5,
-        rolling_friction: 0.0,
-    };
+    let material = common::grain(0.0);
     let (spacing, n) = (2.2e-3, 5usize);
     let width = spacing * n as f64 + 1e-3;
     let mut w = common::open_box_world(material, width, 1e-5, Default::default(), 1);

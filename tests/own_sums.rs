@@ -8,7 +8,6 @@ mod common;
 
 use polydem::body::BodyInit;
 use polydem::contact::CHUNK_ENTRIES;
-use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::rng::SplitMix64;
 use polydem::shape::{Shape, Sphere};
@@ -22,15 +21,7 @@ const SMALL: usize = 400;
 /// 1 mm spheres on its surface, with random velocities and spins, in the middle of a box 0.2 m
 /// wide whose walls none comes near.
 fn world(threads: usize) -> World {
-    let material = Material {
-        name: "grain".into(),
-        density: 2500.0,
-        youngs_modulus: 1e7,
-        poisson_ratio: 0.25,
-        restitution: 0.5,
-        friction: 0.5,
-        rolling_friction: 0.0,
-    };
+    let material = common::grain(0.0);
     let mut w = common::open_box_world(material, 0.2, 1e-6, Default::default(), threads);
     let centre = DVec3::splat(0.1);
     let (big, small) = (0.02, 0.001);

@@ -7,7 +7,6 @@ mod common;
 
 use polydem::body::BodyInit;
 use polydem::contact::Partner;
-use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
 use polydem::World;
@@ -17,15 +16,7 @@ use std::collections::HashMap;
 /// jittered lattice 2.05 mm apart, inserted in a scrambled order, with random velocities and
 /// spins, falling into a box: many contacts with friction and rolling-friction history.
 fn scene(threads: usize) -> World {
-    let material = Material {
-        name: "grain".into(),
-        density: 2500.0,
-        youngs_modulus: 1e7,
-        poisson_ratio: 0.25,
-        restitution: 0.5,
-        friction: 0.5,
-        rolling_friction: 0.1,
-    };
+    let material = common::grain(0.1);
     let (spacing, n) = (2.05e-3, 13usize);
     let width = spacing * n as f64 + 1e-3;
     let mut w = common::open_box_world(material, width, 1e-5, Default::default(), threads);

@@ -13,6 +13,20 @@ use polydem::shape::Shape;
 use polydem::wall::{generators, Plane};
 use polydem::{World, WorldConfig};
 
+/// Glass-like beads, soft enough for large time steps (E = 10 MPa): the material of the tests'
+/// settling beds, with `rolling_friction` as each test needs.
+pub fn grain(rolling_friction: f64) -> Material {
+    Material {
+        name: "grain".into(),
+        density: 2500.0,
+        youngs_modulus: 1e7,
+        poisson_ratio: 0.25,
+        restitution: 0.5,
+        friction: 0.5,
+        rolling_friction,
+    }
+}
+
 /// Kicks every body to a random velocity of `speed` (range, m/s) in a random direction and a
 /// random spin of up to `spin` rad/s about a random axis.
 pub fn kick(w: &mut World, rng: &mut SplitMix64, speed: (f64, f64), spin: f64) {
