@@ -1,6 +1,7 @@
 //! Lists grouped by body, as counting sorts leave them: the values of group `j` (a body's
-//! candidates, the contacts whose partner it is) are `values[first[j]..first[j + 1]]`. Such
-//! lists are made again with each neighbour list, and each group then sorted on its own.
+//! candidates, the contacts whose partner it is, the sweep and prune's pairs of body `j`) are
+//! `values[first[j]..first[j + 1]]`. Such lists are made again with each neighbour list, and
+//! each group then written or sorted on its own.
 //!
 //! [`for_each_group_mut`] works on the groups in parallel, cut where `first` says, with no test
 //! of neighbouring values to find where a group ends (that test read two keys at random per
@@ -9,24 +10,34 @@
 /// Groups per parallel work item of [`for_each_group_mut`].
 const GROUP_BLOCK: usize = 2048;
 
-/// Calls `f` on each group of `values` (`values[first[j]..first[j + 1]]`), the groups in parallel.
-pub fn for_each_group_mut<U: Send>(values: &mut [U], first: &[u32], f: impl Fn(&mut [U]) + Sync) {
+/// Calls `f(j, group)` on each group `j` of `values` (`values[first[j]..first[j + 1]]`), the
+/// groups in parallel.
+pub fn for_each_group_mut<U: Send>(
+    values: &mut [U],
+    first: &[u32],
+    f: impl Fn(usize, &mut [U]) + Sync,
+) {
     let Some(&start) = first.first() else {
         return;
     };
     let values = &mut values[start as usize..first[first.len() - 1] as usize];
-    groups_halved(values, first, &f);
+    groups_halved(values, first, 0, &f);
 }
 
-/// [`for_each_group_mut`] of `values`, which hold the groups `first` bounds: halved until a
-/// block of groups is left, the halves in parallel.
-fn groups_halved<U: Send>(values: &mut [U], first: &[u32], f: &(impl Fn(&mut [U]) + Sync)) {
+/// [`for_each_group_mut`] of `values`, which hold the groups `first` bounds, the first of them
+/// group `j`: halved until a block of groups is left, the halves in parallel.
+fn groups_halved<U: Send>(
+    values: &mut [U],
+    first: &[u32],
+    j: usize,
+    f: &(impl Fn(usize, &mut [U]) + Sync),
+) {
     let groups = first.len() - 1;
     if groups <= GROUP_BLOCK {
         let mut rest = values;
-        for w in first.windows(2) {
+        for (j, w) in (j..).zip(first.windows(2)) {
             let (group, after) = rest.split_at_mut((w[1] - w[0]) as usize);
-            f(group);
+            f(j, group);
             rest = after;
         }
         return;
@@ -34,8 +45,8 @@ fn groups_halved<U: Send>(values: &mut [U], first: &[u32], f: &(impl Fn(&mut [U]
     let mid = groups / 2;
     let (values, values_rest) = values.split_at_mut((first[mid] - first[0]) as usize);
     rayon::join(
-        || groups_halved(values, &first[..=mid], f),
-        || groups_halved(values_rest, &first[mid..], f),
+        || groups_halved(values, &first[..=mid], j, f),
+        || groups_halved(values_rest, &first[mid..], j + mid, f),
     );
 }
 
@@ -79,12 +90,32 @@ mod tests {
                 .num_threads(2)
                 .build()
                 .unwrap();
-            // Each group reversed in place: the groups' contents, each the other way round.
-            pool.install(|| for_each_group_mut(&mut values, &first, |g| g.reverse()));
-            let expected: Vec<u32> = first.windows(2).flat_map(|w| (w[0]..w[1]).rev()).collect();
+            // Each group reversed in place and its first value raised by a million times its
+            // index: the groups' contents, each the other way round, each told its own index.
+            pool.install(|| {
+                for_each_group_mut(&mut values, &first, |j, g| {
+                    g.reverse();
+                    if let Some(v) = g.first_mut() {
+                        *v += 1_000_000 * j as u32;
+                    }
+                })
+            });
+            let expected: Vec<u32> = first
+                .windows(2)
+                .enumerate()
+                .flat_map(|(j, w)| {
+                    (w[0]..w[1]).rev().enumerate().map(move |(k, v)| {
+                        if k == 0 {
+                            v + 1_000_000 * j as u32
+                        } else {
+                            v
+                        }
+                    })
+                })
+                .collect();
             assert_eq!(values, expected);
         }
-        for_each_group_mut(&mut [0u32; 0], &[], |_| panic!("no group"));
+        for_each_group_mut(&mut [0u32; 0], &[], |_, _| panic!("no group"));
     }
 
     proptest! {

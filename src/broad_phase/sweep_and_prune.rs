@@ -1,4 +1,5 @@
 use super::{BroadPhase, CellGrid, Pair};
+use crate::groups::for_each_group_mut;
 use crate::math::{Aabb, DVec3};
 use rayon::prelude::*;
 
@@ -111,7 +112,7 @@ pub struct SweepAndPrune {
     /// Whether the lists describe the boxes of the previous call.
     initialised: bool,
     /// Working memory of [`write_pairs`].
-    pair_starts: Vec<usize>,
+    pair_starts: Vec<u32>,
     /// Per work item of an update, the boxes whose regions change, with their new ones.
     changed: Vec<Vec<(u32, Range)>>,
     /// Rough cost of a full rebuild, in swap-sized units: an update gives up beyond it.
@@ -596,52 +597,24 @@ impl BroadPhase for SweepAndPrune {
     }
 }
 
-/// Bodies per block of [`write_pairs`].
-const PAIR_BLOCK: usize = 2048;
-
 /// The pairs of the candidate set, ascending: body by body, each body's partners. Written in
-/// parallel by blocks of bodies, each block's place in the list counted first (`starts`, kept
+/// parallel by groups of bodies, each body's place in the list counted first (`starts`, kept
 /// from call to call).
-fn write_pairs(partners: &[Vec<Partner>], starts: &mut Vec<usize>, pairs: &mut Vec<Pair>) {
+fn write_pairs(partners: &[Vec<Partner>], starts: &mut Vec<u32>, pairs: &mut Vec<Pair>) {
     starts.clear();
     starts.push(0);
     let mut total = 0;
-    for block in partners.chunks(PAIR_BLOCK) {
-        total += block.iter().map(Vec::len).sum::<usize>();
+    for list in partners {
+        total += list.len() as u32;
         starts.push(total);
     }
     pairs.clear();
-    pairs.resize(total, (0, 0));
-    write_blocks(partners, starts, 0, pairs);
-}
-
-/// The pairs of the blocks of `partners` (whose first body is `first`) into `out`: halved until
-/// one block is left, the halves in parallel. `starts`: each block's place, and the end.
-fn write_blocks(partners: &[Vec<Partner>], starts: &[usize], first: usize, out: &mut [Pair]) {
-    let blocks = starts.len() - 1;
-    if blocks <= 1 {
-        let pairs = (first as u32..)
-            .zip(partners)
-            .flat_map(|(i, list)| list.iter().map(move |p| (i, p.body)));
-        for (slot, pair) in out.iter_mut().zip(pairs) {
-            *slot = pair;
+    pairs.resize(total as usize, (0, 0));
+    for_each_group_mut(pairs, starts, |i, out| {
+        for (slot, p) in out.iter_mut().zip(&partners[i]) {
+            *slot = (i as u32, p.body);
         }
-        return;
-    }
-    let mid = blocks / 2;
-    let (lists, lists_rest) = partners.split_at(mid * PAIR_BLOCK);
-    let (out, out_rest) = out.split_at_mut(starts[mid] - starts[0]);
-    rayon::join(
-        || write_blocks(lists, &starts[..=mid], first, out),
-        || {
-            write_blocks(
-                lists_rest,
-                &starts[mid..],
-                first + mid * PAIR_BLOCK,
-                out_rest,
-            )
-        },
-    );
+    });
 }
 
 /// Rough number of box tests a [`CellGrid`] makes: 27 cells of bodies per body, cells no smaller

@@ -342,7 +342,7 @@ impl ContactStore {
             }
         }
         // Each body's list (the bodies' lists in parallel).
-        for_each_group_mut(&mut self.incoming, &self.incoming_first, |list| {
+        for_each_group_mut(&mut self.incoming, &self.incoming_first, |_, list| {
             sort_short_by_key(list, |&e| {
                 (ids[keys[e as usize].a as usize], keys[e as usize].region)
             })

@@ -311,7 +311,7 @@ impl NeighbourSearch {
             *slot += 1;
         }
         // Each body's run (the bodies' runs in parallel).
-        for_each_group_mut(&mut self.list, &self.first, |run| {
+        for_each_group_mut(&mut self.list, &self.first, |_, run| {
             sort_short_by_key(run, |c| c.partner.rank(ids))
         });
     }
