@@ -26,7 +26,7 @@ mod view;
 
 pub use config::WorldConfig;
 pub use interventions::WallMotionChangeError;
-pub use share::{RunningTotals, SharePart};
+pub use share::{RunningTotals, ShareOutlook, SharePart};
 pub use snapshot::{RestoreError, ShapeRecord, WorldState, WorldStateRef};
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances

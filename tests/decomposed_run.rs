@@ -7,8 +7,13 @@
 mod common;
 
 use common::drum::drum;
+use polydem::body::BodyInit;
+use polydem::contact_law::NormalLaw;
 use polydem::decomposition::InProcessRanks;
-use polydem::World;
+use polydem::material::PairTable;
+use polydem::math::{DQuat, DVec3};
+use polydem::shape::{Shape, Sphere};
+use polydem::{World, WorldConfig};
 use std::collections::BTreeMap;
 
 /// Every number of every owned body's state, as bits, by body id.
@@ -110,4 +115,110 @@ fn three_ranks_give_the_bits_of_one_world() {
 #[test]
 fn five_ranks_give_the_bits_of_one_world() {
     decomposed_run_matches_a_single_world(5);
+}
+
+/// Two rows of resting spheres, 20 on either side of the cut two ranks make, off the line of a
+/// sphere that flies from far inside rank 0's region, deeper than any ghost layer, at a sphere
+/// resting just across the cut (so each rank holds the target, and only its owner the flier).
+fn flier_and_target() -> World {
+    let material = common::grain(0.0);
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        NormalLaw::Hertz,
+        2.0 / 7.0,
+        &[],
+    );
+    let mut w = World::new(WorldConfig {
+        time_step: 5e-6,
+        gravity: DVec3::ZERO,
+        materials: vec![material],
+        pair_laws: laws,
+        planes: Vec::new(),
+        broad_phase: Default::default(),
+        skin: None,
+        threads: 1,
+    })
+    .unwrap();
+    let r = 1e-3;
+    let mut sphere = |position: DVec3, velocity: DVec3| {
+        w.add_body(BodyInit {
+            shape: Shape::Sphere(Sphere { radius: r }),
+            material: 0,
+            position,
+            orientation: DQuat::IDENTITY,
+            velocity,
+            angular_velocity: DVec3::ZERO,
+        });
+    };
+    let target = 0.1;
+    sphere(DVec3::ZERO, DVec3::new(5.0, 0.0, 0.0));
+    // Rank 0's 19 others, up to half a radius short of the target: the cut falls there.
+    for k in 0..19 {
+        let x = target - 0.5 * r - 0.005 * (18 - k) as f64;
+        sphere(DVec3::new(x, 0.05, 0.0), DVec3::ZERO);
+    }
+    sphere(DVec3::new(target, 0.0, 0.0), DVec3::ZERO);
+    for k in 1..20 {
+        sphere(
+            DVec3::new(target + 0.005 * k as f64, 0.05, 0.0),
+            DVec3::ZERO,
+        );
+    }
+    w
+}
+
+/// A body deep in its owner's region may move farther than a redraw's distance before the shares
+/// are redrawn (its slack, `decomposition::share::REDRAW_AT`), but not so far that a rank misses
+/// a contact of its own body: the flier strikes the target, which rank 1 owns, as in one world,
+/// while the flier's long way through rank 0's region calls for few redraws.
+#[test]
+fn a_body_flying_from_deep_in_a_share_strikes_as_in_one_world() {
+    let mut single = flier_and_target();
+    let mut shares = InProcessRanks::new(2, flier_and_target).expect("the shares are drawn");
+    let cut = {
+        let parts: Vec<&World> = shares.shares().collect();
+        let target_owner = parts.iter().position(|w| {
+            let b = w.bodies();
+            (0..b.len()).any(|i| b.id[i] == 20 && !b.is_ghost(i))
+        });
+        assert_eq!(target_owner, Some(1), "the target is rank 1's");
+        parts[0].bodies().len()
+    };
+    assert_eq!(
+        cut, 21,
+        "rank 0 holds its 20 bodies and the target as a ghost"
+    );
+    // 0.1 m at 5 m/s: the strike comes after about 3,900 steps.
+    for _ in 0..100 {
+        single.run_steps(50);
+        for _ in 0..50 {
+            shares.step().expect("every contact finds its entry");
+        }
+        let parts: Vec<&World> = shares.shares().collect();
+        assert!(
+            owned_bodies(&[&single]) == owned_bodies(&parts),
+            "two ranks differ from one world after {} steps",
+            single.steps_done()
+        );
+    }
+    let target_speed = single.bodies().velocity[20].length();
+    assert!(
+        target_speed > 1.0,
+        "the target was struck: {target_speed} m/s"
+    );
+    // Without the slack, every 0.9 skin of the flier's 0.1 m (some 550) would call for a redraw;
+    // with it, those within a layer and a skin of the cut (the flier's last 2.5 mm, the
+    // target's first 2 mm, some 30 at 0.9 skin each) and a few on the way.
+    let skin = single.skin();
+    println!(
+        "{} redraws for a flight of {:.0} skins",
+        shares.redraws,
+        0.1 / skin
+    );
+    assert!(
+        shares.redraws < 100,
+        "{} redraws for a flight of {:.0} skins",
+        shares.redraws,
+        0.1 / skin
+    );
 }

@@ -184,6 +184,29 @@ impl Decomposition {
         }
     }
 
+    /// How deep `p` lies in its owner's region: the distance, along one axis, to the nearest cut
+    /// that bounds the region (`f64::INFINITY` for a single rank). Within that distance on every
+    /// axis there is no other rank's region: [`Decomposition::ranks_near`] finds only the owner
+    /// for any halo below it.
+    pub fn depth(&self, p: DVec3) -> f64 {
+        let mut node = &self.root;
+        let mut depth = f64::INFINITY;
+        loop {
+            match node {
+                Node::Rank(_) => return depth,
+                Node::Cut {
+                    axis,
+                    at,
+                    below,
+                    above,
+                } => {
+                    depth = depth.min((p[*axis] - *at).abs());
+                    node = if p[*axis] < *at { below } else { above };
+                }
+            }
+        }
+    }
+
     /// Every rank whose region comes within `halo` of `p` (on each axis: the closed box of half
     /// side `halo` about `p` meets it), the owner included, in increasing order: a body there
     /// must be a ghost on each of them but its owner.
@@ -319,6 +342,30 @@ mod tests {
                     .collect();
                 prop_assert_eq!(d.ranks_near(p, halo), expected);
                 prop_assert!(d.ranks_near(p, halo).contains(&d.owner(p)));
+            }
+        }
+    }
+
+    proptest! {
+        /// Within its depth a point has no rank near it but its owner; a little beyond a finite
+        /// depth, another rank's region.
+        #[test]
+        fn depth_is_the_distance_to_the_nearest_other_region(
+            positions in bodies(),
+            ranks in 1..9usize,
+            probes in prop::collection::vec(point(6.0), 1..20),
+        ) {
+            let d = Decomposition::new(ranks, &mut LocalBodies(&positions));
+            for p in probes {
+                let depth = d.depth(p);
+                prop_assert!(depth >= 0.0);
+                if depth.is_infinite() {
+                    prop_assert_eq!(ranks, 1);
+                    continue;
+                }
+                prop_assert_eq!(d.ranks_near(p, 0.999 * depth), vec![d.owner(p)]);
+                let beyond = 1.001 * depth + 1e-12;
+                prop_assert!(d.ranks_near(p, beyond).len() > 1, "depth {depth} at {p:?}");
             }
         }
     }

@@ -64,13 +64,10 @@ impl InProcessRanks {
                 self.shares[to].take_states(from, &states);
             }
         }
-        let moved = self
-            .shares
-            .iter()
-            .map(Share::predicted_move)
-            .fold(0.0, f64::max);
+        let outlooks: Vec<_> = self.shares.iter().map(Share::outlook).collect();
+        let moved = outlooks.iter().map(|o| o.excess_move).fold(0.0, f64::max);
         // As on MPI ranks: every share remakes its neighbour list when one would.
-        let expires = self.shares.iter().any(Share::search_expires);
+        let expires = outlooks.iter().any(|o| o.search_expires);
         if self.shares[0].must_redraw(moved) {
             self.redraw(false)?;
         } else if expires {

@@ -98,12 +98,13 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         }
         self.exchange();
         // One reduction for two questions: how far a body will have moved from where the shares
-        // were drawn, and whether some share's neighbour search will remake its list next step.
+        // were drawn (beyond its slack), and whether some share's neighbour search will remake its list next step.
         // Then every share remakes its list at that step: a rank that remade its list alone
         // would hold the others up at the next exchange.
+        let outlook = self.share.outlook();
         let mine = [
-            self.share.predicted_move(),
-            f64::from(u8::from(self.share.search_expires())),
+            outlook.excess_move,
+            f64::from(u8::from(outlook.search_expires)),
         ];
         let mut all = [0.0; 2];
         self.communicator

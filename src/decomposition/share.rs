@@ -13,8 +13,8 @@
 //!   (position, orientation, velocities, forces: [`Share::states_for`]): the owner summed every
 //!   contact of the body, the ghost's holder only some.
 //! - **Redrawing** ([`Share::deliveries`], [`Share::receive`]). Before any body would move
-//!   [`REDRAW_AT`] skins from where the shares were drawn ([`World::predicted_largest_move`], a maximum over the
-//!   ranks), or when bodies left the domain, bodies change hands, ghosts come and go, and each
+//!   [`REDRAW_AT`] skins (more if it lies deep in its owner's region) from where the shares were
+//!   drawn ([`World::share_outlook`], a maximum over the ranks), or when bodies left the domain, bodies change hands, ghosts come and go, and each
 //!   share makes its candidate list again. A body that changes owner brings its contacts'
 //!   histories from its old owner ([`World::contact_records`]): the new owner held it as a
 //!   ghost, but a ghost's contacts with other ghosts are not the exact ones.
@@ -25,7 +25,7 @@ use super::Decomposition;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
-use crate::world::World;
+use crate::world::{ShareOutlook, World};
 use std::collections::{HashMap, HashSet};
 
 /// Shares are redrawn when a body would come this far (in skins) from where they were drawn. Two
@@ -33,6 +33,14 @@ use std::collections::{HashMap, HashSet};
 /// then at most this far out of its owner's region, its partner at most this far from where it
 /// was drawn: within the ghost layer of two radii and two skins, with a fifth of a skin to
 /// spare for round-off in the prediction.
+///
+/// A body whose drawn place lies deeper in its owner's region than the layer and a skin (by
+/// [`Decomposition::depth`], the distance along an axis to the region's nearest cut) may go as
+/// much farther as it lies deeper: its slack. It then stays over a layer deep in that region, so
+/// it is no rank's ghost (no rank's region is within a layer of it) and, when its owner's, it
+/// keeps away from every body its owner does not hold (those were over a layer outside the
+/// region when drawn, and come no closer to it than they would without slack). So only bodies
+/// near a cut call for a redraw: in a settling bed, not every body that still bounces.
 pub const REDRAW_AT: f64 = 0.9;
 
 /// What one share sends another when the shares are redrawn: the bodies the receiver is to hold
@@ -64,6 +72,8 @@ pub struct Share {
     count: usize,
     /// Where each body was when the shares were last drawn.
     drawn_at: Vec<DVec3>,
+    /// How much farther than [`REDRAW_AT`] skins each body may move from there (see there).
+    slack: Vec<f64>,
 }
 
 impl Share {
@@ -79,6 +89,7 @@ impl Share {
             receive: Vec::new(),
             count: 0,
             drawn_at: Vec::new(),
+            slack: Vec::new(),
         };
         share.start_from_whole(cuts);
         share
@@ -115,6 +126,7 @@ impl Share {
         self.send = vec![Vec::new(); cuts.ranks()];
         self.receive = vec![Vec::new(); cuts.ranks()];
         self.drawn_at.clear();
+        self.slack.clear();
     }
 
     pub fn world(&self) -> &World {
@@ -143,15 +155,12 @@ impl Share {
         self.world.bodies().len() != self.count
     }
 
-    /// How far a body will be, after the next step's drift, from where it was when the shares
-    /// were drawn (see [`World::predicted_largest_move`]).
-    pub fn predicted_move(&self) -> f64 {
-        self.world.predicted_largest_move(&self.drawn_at)
-    }
-
-    /// Whether this share's neighbour search would make its list again at the next step.
-    pub fn search_expires(&self) -> bool {
-        self.world.search_expires_next_step()
+    /// What the shares must agree on before the next step, as this share sees it: how far a
+    /// body will have gone, after the next step's drift, beyond its slack from where it was
+    /// when the shares were drawn, and whether this share's neighbour search will make its list
+    /// again (see [`World::share_outlook`]).
+    pub fn outlook(&self) -> ShareOutlook {
+        self.world.share_outlook(&self.drawn_at, &self.slack)
     }
 
     /// Makes this share's neighbour list again at the next step (another share does).
@@ -160,9 +169,9 @@ impl Share {
     }
 
     /// Whether the shares must be redrawn before the next step, given the largest
-    /// [`Share::predicted_move`] over the ranks.
-    pub fn must_redraw(&self, largest_move: f64) -> bool {
-        largest_move > REDRAW_AT * self.world.skin()
+    /// [`ShareOutlook::excess_move`] over the ranks.
+    pub fn must_redraw(&self, largest_excess: f64) -> bool {
+        largest_excess > REDRAW_AT * self.world.skin()
     }
 
     /// The state of the bodies rank `to` holds as ghosts of this share's, in order of id.
@@ -296,7 +305,17 @@ impl Share {
         }
         let owned = deliveries.iter().flat_map(|d| &d.owned);
         self.index_exchange(&index, owned, &owner);
-        self.drawn_at.clone_from(&self.world.bodies().position);
+        let b = self.world.bodies();
+        self.drawn_at.clone_from(&b.position);
+        // A body deep in its owner's region may go farther before any rank's ghosts could miss
+        // it: see [`REDRAW_AT`].
+        let beyond = self.layer + self.world.skin();
+        self.slack.clear();
+        self.slack.extend(
+            b.position
+                .iter()
+                .map(|&x| (cuts.depth(x) - beyond).max(0.0)),
+        );
         Ok(())
     }
 

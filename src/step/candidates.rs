@@ -324,19 +324,23 @@ pub(crate) fn bodies_moved_too_far(moves: [f64; 2], skin: f64, mesh_walls: bool)
     moves[0] + moves[1] > skin || (mesh_walls && moves[0] > 0.5 * skin)
 }
 
+/// `top` (the two largest of some numbers, largest first) with `d` among them (a NaN is passed
+/// over, as by a comparison).
+#[inline]
+pub(crate) fn with_largest_two(top: [f64; 2], d: f64) -> [f64; 2] {
+    if d > top[0] {
+        [d, top[0]]
+    } else if d > top[1] {
+        [top[0], d]
+    } else {
+        top
+    }
+}
+
 /// The two largest of the square roots of `squared` (squared distances), largest first. Run
 /// every step over every body: two comparisons a body.
 pub(crate) fn largest_two(squared: impl ParallelIterator<Item = f64>) -> [f64; 2] {
-    // `top` with `d` among its two largest (a NaN is passed over, as by a comparison).
-    let add = |top: [f64; 2], d: f64| {
-        if d > top[0] {
-            [d, top[0]]
-        } else if d > top[1] {
-            [top[0], d]
-        } else {
-            top
-        }
-    };
+    let add = with_largest_two;
     let [first, second] = squared
         .fold(|| [0.0, 0.0], add)
         .reduce(|| [0.0, 0.0], |a, b| add(add(a, b[0]), b[1]));

@@ -10,7 +10,7 @@ use super::World;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
-use crate::step::candidates::{bodies_moved_too_far, largest_two};
+use crate::step::candidates::{bodies_moved_too_far, with_largest_two};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -52,6 +52,21 @@ impl RunningTotals {
         add_all(&mut self.meter_mass, &other.meter_mass);
         add_all(&mut self.meter_bodies, &other.meter_bodies);
     }
+}
+
+/// What [`World::share_outlook`] finds, for the shares of a decomposed world to agree on before
+/// the next step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShareOutlook {
+    /// The largest distance a body will be, after the next step's drift, from where the shares
+    /// were drawn, beyond its slack (0 if none goes beyond it): the shares are redrawn before it
+    /// would reach the bound their ghost layer allows.
+    pub excess_move: f64,
+    /// Whether the neighbour search will make its list again at the next step (its bodies'
+    /// moves since the list was made, predicted alike, call for it:
+    /// `step::candidates::bodies_moved_too_far`). Walls move alike in every share and are
+    /// left out.
+    pub search_expires: bool,
 }
 
 /// What one share of a decomposed world gives towards the whole: its owned bodies, their
@@ -236,17 +251,63 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
-    /// Whether the neighbour search will make its list again at the next step (its bodies'
-    /// moves since the list was made, predicted as in [`World::predicted_largest_move`], would
-    /// call for it: `step::candidates::bodies_moved_too_far`). Walls move alike in every share,
-    /// and are left out.
-    pub fn search_expires_next_step(&self) -> bool {
-        match self.search.reference_positions() {
-            Some(from) if from.len() == self.bodies.len() => {
-                let moves = largest_two(self.predicted_moves_squared(from));
-                bodies_moved_too_far(moves, self.skin(), !self.mesh_walls.is_empty())
+    /// What a decomposed world asks of each share after every step, in one pass over the bodies
+    /// (see [`ShareOutlook`]): each body's place after the next step's drift, predicted from the
+    /// forces of the last evaluation, against where the shares were drawn (`drawn_at`, a place
+    /// per body, less `slack[i]`, how far body `i` may go beyond the shares' common bound) and
+    /// against where the neighbour search made its list.
+    pub fn share_outlook(&self, drawn_at: &[DVec3], slack: &[f64]) -> ShareOutlook {
+        let b = &self.bodies;
+        assert_eq!(drawn_at.len(), b.len(), "a place per body");
+        assert_eq!(slack.len(), b.len(), "a slack per body");
+        let listed = self
+            .search
+            .reference_positions()
+            .filter(|from| from.len() == b.len());
+        let (h, dt, g) = (0.5 * self.time_step, self.time_step, self.gravity);
+        // Blocks of bodies, each a serial loop; in parallel in the world's pool if it has more
+        // than one thread (a one-thread pool would only hand the pass to its worker and back).
+        let block = |range: std::ops::Range<usize>| {
+            let (mut excess, mut squared) = (f64::NEG_INFINITY, [0.0, 0.0]);
+            for i in range {
+                let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
+                let x = b.position[i] + v * dt;
+                excess = excess.max((x - drawn_at[i]).length() - slack[i]);
+                if let Some(from) = listed {
+                    squared = with_largest_two(squared, (x - from[i]).length_squared());
+                }
             }
-            _ => true,
+            (excess, squared)
+        };
+        const BLOCK: usize = 8192;
+        let merge = |(e0, m0): (f64, [f64; 2]), (e1, m1): (f64, [f64; 2])| {
+            (
+                e0.max(e1),
+                with_largest_two(with_largest_two(m0, m1[0]), m1[1]),
+            )
+        };
+        let blocks = b.len().div_ceil(BLOCK);
+        let range = |k: usize| k * BLOCK..((k + 1) * BLOCK).min(b.len());
+        let none = (f64::NEG_INFINITY, [0.0, 0.0]);
+        let (excess, squared) = if self.pool.current_num_threads() == 1 {
+            (0..blocks).map(|k| block(range(k))).fold(none, merge)
+        } else {
+            self.pool.install(|| {
+                (0..blocks)
+                    .into_par_iter()
+                    .map(|k| block(range(k)))
+                    .reduce(|| none, merge)
+            })
+        };
+        ShareOutlook {
+            excess_move: excess.max(0.0),
+            search_expires: match listed {
+                Some(_) => {
+                    let moves = squared.map(f64::sqrt);
+                    bodies_moved_too_far(moves, self.skin(), !self.mesh_walls.is_empty())
+                }
+                None => true,
+            },
         }
     }
 
@@ -254,30 +315,6 @@ impl World {
     /// world remake theirs at the same steps, so that none waits for another that does.
     pub fn expire_search(&mut self) {
         self.search.expire();
-    }
-
-    /// How far the body that will have moved farthest from `from` (a place per body) will be
-    /// after the next step's drift, predicted from the forces of the last evaluation. Shares are
-    /// redrawn, all at once, before it would reach the distance their ghost layer allows.
-    pub fn predicted_largest_move(&self, from: &[DVec3]) -> f64 {
-        self.predicted_moves_squared(from)
-            .map(f64::sqrt)
-            .reduce(|| 0.0, f64::max)
-    }
-
-    /// Each body's squared distance from `from` (a place per body) after the next step's drift,
-    /// predicted from the forces of the last evaluation.
-    fn predicted_moves_squared<'a>(
-        &'a self,
-        from: &'a [DVec3],
-    ) -> impl IndexedParallelIterator<Item = f64> + 'a {
-        let (b, h, dt) = (&self.bodies, 0.5 * self.time_step, self.time_step);
-        assert_eq!(from.len(), b.len(), "a place per body");
-        let g = self.gravity;
-        (0..b.len()).into_par_iter().map(move |i| {
-            let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
-            (b.position[i] + v * dt - from[i]).length_squared()
-        })
     }
 
     /// Makes this share's running totals (energy dissipated, inserted and removed, the work of
