@@ -222,3 +222,34 @@ fn a_body_flying_from_deep_in_a_share_strikes_as_in_one_world() {
         0.1 / skin
     );
 }
+
+/// Shares large enough to be sorted in space put their bodies in space order at their drawings,
+/// at most every thousand steps (as a single world does), and give the bits of one world all the
+/// same.
+#[test]
+fn shares_sorted_in_space_give_the_bits_of_one_world() {
+    // 17³ = 4,913 bodies: each share holds more than the 2,048 a world is sorted from.
+    let mut single = common::scrambled_bed(17, 1);
+    let mut shares = InProcessRanks::new(2, || common::scrambled_bed(17, 1)).expect("drawn");
+    let ids_in_order = |w: &World| w.bodies().id.windows(2).all(|p| p[0] < p[1]);
+    // Bodies came in a scrambled order, kept by ids: a share that keeps its order keeps them
+    // increasing.
+    assert!(
+        shares.shares().all(|w| !ids_in_order(w)),
+        "sorted at the first drawing"
+    );
+    for _ in 0..12 {
+        single.run_steps(100);
+        for _ in 0..100 {
+            shares.step().expect("every contact finds its entry");
+        }
+        let parts: Vec<&World> = shares.shares().collect();
+        assert!(
+            owned_bodies(&[&single]) == owned_bodies(&parts),
+            "two ranks differ from one world after {} steps",
+            single.steps_done()
+        );
+    }
+    // Redraws after the thousandth step sort the shares again.
+    assert!(shares.redraws >= 3, "only {} redraws", shares.redraws);
+}

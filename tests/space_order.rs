@@ -5,47 +5,10 @@
 
 mod common;
 
-use polydem::body::BodyInit;
 use polydem::contact::Partner;
-use polydem::math::{DQuat, DVec3};
-use polydem::shape::{Shape, Sphere};
+use polydem::math::DVec3;
 use polydem::World;
 use std::collections::HashMap;
-
-/// 2,197 spheres (13³, above the size at which the world sorts by itself) of 1 mm radius on a
-/// jittered lattice 2.05 mm apart, inserted in a scrambled order, with random velocities and
-/// spins, falling into a box: many contacts with friction and rolling-friction history.
-fn scene(threads: usize) -> World {
-    let material = common::grain(0.1);
-    let (spacing, n) = (2.05e-3, 13usize);
-    let width = spacing * n as f64 + 1e-3;
-    let mut w = common::open_box_world(material, width, 1e-5, Default::default(), threads);
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut random = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let count = n * n * n;
-    for k in 0..count {
-        // Cells in a scrambled order (multiplication by a number prime to the count).
-        let cell = (k * 1_000_003) % count;
-        let (i, j, l) = (cell % n, cell / n % n, cell / (n * n));
-        let jitter = DVec3::new(random(), random(), random()) * 4e-5;
-        w.add_body(BodyInit {
-            shape: Shape::Sphere(Sphere { radius: 1e-3 }),
-            material: 0,
-            position: DVec3::new(i as f64, j as f64, l as f64) * spacing
-                + DVec3::splat(1.5e-3)
-                + jitter,
-            orientation: DQuat::IDENTITY,
-            velocity: DVec3::new(random(), random(), random()) * 0.2,
-            angular_velocity: DVec3::new(random(), random(), random()) * 100.0,
-        });
-    }
-    w
-}
 
 /// Each body's state by id, and each contact's history by the ids of its two bodies (seen from
 /// the body of lower id).
@@ -100,7 +63,7 @@ fn snapshot(w: &World) -> Snapshot {
 
 #[test]
 fn sorting_bodies_changes_only_their_numbering() {
-    let mut w = scene(1);
+    let mut w = common::scrambled_bed(13, 1);
     w.set_sort_interval(0);
     w.run_steps(2500);
     let before = snapshot(&w);
@@ -121,7 +84,7 @@ fn sorting_bodies_changes_only_their_numbering() {
     // The next steps are those of an unsorted twin, bit for bit: pairs are seen from the body
     // of smaller id and each body sums its contacts in the order of its partners' ids, whatever
     // the numbering.
-    let mut twin = scene(1);
+    let mut twin = common::scrambled_bed(13, 1);
     twin.set_sort_interval(0);
     twin.run_steps(2500);
     w.run_steps(20);
@@ -139,7 +102,7 @@ fn sorting_bodies_changes_only_their_numbering() {
 #[test]
 fn runs_that_sort_are_bit_identical_for_any_thread_count() {
     let run = |threads| {
-        let mut w = scene(threads);
+        let mut w = common::scrambled_bed(13, threads);
         w.set_sort_interval(150);
         w.run_steps(400);
         (

@@ -58,9 +58,11 @@ impl InProcessRanks {
         if left {
             return self.redraw(true);
         }
+        let mut states = Vec::new();
         for from in 0..self.shares.len() {
             for to in 0..self.shares.len() {
-                let states = self.shares[from].states_for(to);
+                states.clear();
+                self.shares[from].put_states_for(to, &mut states);
                 self.shares[to].take_states(from, &states);
             }
         }

@@ -48,6 +48,9 @@ pub struct MpiRanks<'c, C: Communicator> {
     pub redraws: u64,
     pub rebalances: u64,
     pub migrations: u64,
+    /// The per-step exchange's buffers, kept from step to step.
+    outgoing: Vec<f64>,
+    incoming: Vec<f64>,
 }
 
 impl<'c, C: Communicator> MpiRanks<'c, C> {
@@ -64,6 +67,8 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             redraws: 0,
             rebalances: 1,
             migrations: 0,
+            outgoing: Vec::new(),
+            incoming: Vec::new(),
         };
         run.redraw(false)?;
         run.share.take_share_of_totals();
@@ -190,31 +195,30 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         self.total(flag as u64) > 0
     }
 
-    /// Each ghost takes its owner's state.
+    /// Each ghost takes its owner's state (through buffers kept from step to step).
     fn exchange(&mut self) {
         let ranks = self.communicator.size() as usize;
         const N: usize = BodyMotionState::LEN;
-        let mut outgoing = Vec::new();
+        let mut outgoing = std::mem::take(&mut self.outgoing);
+        outgoing.clear();
         let mut send_counts = Vec::with_capacity(ranks);
         for to in 0..ranks {
-            let states = self.share.states_for(to);
-            send_counts.push((states.len() * N) as i32);
-            outgoing.extend(states.iter().flat_map(|s| s.to_array()));
+            let before = outgoing.len();
+            self.share.put_states_for(to, &mut outgoing);
+            send_counts.push((outgoing.len() - before) as i32);
         }
         let receive_counts: Vec<i32> = (0..ranks)
             .map(|from| (self.share.ghosts_from(from) * N) as i32)
             .collect();
-        let incoming = self.all_to_all(&outgoing, &send_counts, &receive_counts);
+        let mut incoming = std::mem::take(&mut self.incoming);
+        self.all_to_all_into(&outgoing, &send_counts, &receive_counts, &mut incoming);
         let mut at = 0;
         for (from, &count) in receive_counts.iter().enumerate() {
             let count = count as usize;
-            let states: Vec<BodyMotionState> = incoming[at..at + count]
-                .chunks(N)
-                .map(BodyMotionState::from_slice)
-                .collect();
-            self.share.take_states(from, &states);
+            self.share.take_states(from, &incoming[at..at + count]);
             at += count;
         }
+        (self.outgoing, self.incoming) = (outgoing, incoming);
     }
 
     /// Draws the shares again (see [`super::share`]).
@@ -290,14 +294,27 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         send_counts: &[i32],
         receive_counts: &[i32],
     ) -> Vec<T> {
+        let mut incoming = Vec::new();
+        self.all_to_all_into(outgoing, send_counts, receive_counts, &mut incoming);
+        incoming
+    }
+
+    /// [`MpiRanks::all_to_all`] into `incoming` (whose room is kept).
+    fn all_to_all_into<T: Equivalence + Default + Clone>(
+        &self,
+        outgoing: &[T],
+        send_counts: &[i32],
+        receive_counts: &[i32],
+        incoming: &mut Vec<T>,
+    ) {
         let (send_starts, receive_starts) = (starts(send_counts), starts(receive_counts));
         let total: i32 = receive_counts.iter().sum();
-        let mut incoming = vec![T::default(); total as usize];
+        incoming.clear();
+        incoming.resize(total as usize, T::default());
         self.communicator.all_to_all_varcount_into(
             &Partition::new(outgoing, send_counts, &send_starts[..]),
             &mut PartitionMut::new(&mut incoming[..], receive_counts, &receive_starts[..]),
         );
-        incoming
     }
 }
 

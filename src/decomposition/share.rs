@@ -25,6 +25,7 @@ use super::Decomposition;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
 use crate::math::DVec3;
+use crate::step::space_order::{SORT_INTERVAL, SORT_MIN_BODIES};
 use crate::world::{ShareOutlook, World};
 use std::collections::{HashMap, HashSet};
 
@@ -74,6 +75,10 @@ pub struct Share {
     drawn_at: Vec<DVec3>,
     /// How much farther than [`REDRAW_AT`] skins each body may move from there (see there).
     slack: Vec<f64>,
+    /// The step at which the share last put its bodies in space order, and the fewest bodies
+    /// it does that for (see [`Share::sort_in_space_if_due`]).
+    sorted_at: Option<u64>,
+    sort_min_bodies: usize,
 }
 
 impl Share {
@@ -90,6 +95,8 @@ impl Share {
             count: 0,
             drawn_at: Vec::new(),
             slack: Vec::new(),
+            sorted_at: None,
+            sort_min_bodies: SORT_MIN_BODIES,
         };
         share.start_from_whole(cuts);
         share
@@ -174,13 +181,15 @@ impl Share {
         largest_excess > REDRAW_AT * self.world.skin()
     }
 
-    /// The state of the bodies rank `to` holds as ghosts of this share's, in order of id.
-    pub fn states_for(&self, to: usize) -> Vec<BodyMotionState> {
+    /// Appends to `out` the state of the bodies rank `to` holds as ghosts of this share's, in
+    /// order of id, as numbers ([`BodyMotionState::to_array`], [`BodyMotionState::LEN`] a body):
+    /// what is sent after every step, written straight from the bodies' arrays.
+    pub fn put_states_for(&self, to: usize, out: &mut Vec<f64>) {
         let b = self.world.bodies();
-        self.send[to]
-            .iter()
-            .map(|&i| b.motion_state(i as usize))
-            .collect()
+        out.reserve(self.send[to].len() * BodyMotionState::LEN);
+        for &i in &self.send[to] {
+            out.extend_from_slice(&b.motion_state(i as usize).to_array());
+        }
     }
 
     /// The number of this share's ghosts that rank `from` owns (the states it sends each step).
@@ -188,18 +197,20 @@ impl Share {
         self.receive[from].len()
     }
 
-    /// Gives the ghosts rank `from` owns the states it sent ([`Share::states_for`]).
-    pub fn take_states(&mut self, from: usize, states: &[BodyMotionState]) {
+    /// Gives the ghosts rank `from` owns the states it sent ([`Share::put_states_for`]).
+    pub fn take_states(&mut self, from: usize, numbers: &[f64]) {
+        const N: usize = BodyMotionState::LEN;
         assert_eq!(
-            states.len(),
-            self.receive[from].len(),
-            "rank {from} sent {} states for {} ghosts of rank {}",
-            states.len(),
+            numbers.len(),
+            self.receive[from].len() * N,
+            "rank {from} sent {} numbers for {} ghosts of rank {}",
+            numbers.len(),
             self.receive[from].len(),
             self.rank
         );
-        for (&i, state) in self.receive[from].iter().zip(states) {
-            self.world.set_motion_state(i as usize, state);
+        for (&i, state) in self.receive[from].iter().zip(numbers.chunks_exact(N)) {
+            let state = BodyMotionState::from_slice(state);
+            self.world.set_motion_state(i as usize, &state);
         }
     }
 
@@ -294,6 +305,7 @@ impl Share {
         for record in new {
             self.world.hold_ghost(record);
         }
+        self.sort_in_space_if_due();
         let b = self.world.bodies();
         let owner: Vec<usize> = b.position.iter().map(|&x| cuts.owner(x)).collect();
         let ghost: Vec<bool> = owner.iter().map(|&o| o != self.rank).collect();
@@ -317,6 +329,20 @@ impl Share {
                 .map(|&x| (cuts.depth(x) - beyond).max(0.0)),
         );
         Ok(())
+    }
+
+    /// Renumbers the share's bodies along a space-filling curve, as a single world does every
+    /// [`SORT_INTERVAL`] steps (`World::sort_bodies_in_space`), if that many steps have passed
+    /// since the share last did: between redraws the share keeps its numbering (the exchange's
+    /// lists name bodies by index), and a redraw makes its candidate list anew anyway. The
+    /// results do not change by a bit (pairs and sums go by global ids).
+    fn sort_in_space_if_due(&mut self) {
+        let steps = self.world.steps_done();
+        let due = self.sorted_at.is_none_or(|at| steps >= at + SORT_INTERVAL);
+        if due && self.world.bodies().len() >= self.sort_min_bodies {
+            self.world.sort_bodies_in_space();
+            self.sorted_at = Some(steps);
+        }
     }
 
     /// The lists of the per-step exchange: which owned bodies go to which rank (`owned`: each

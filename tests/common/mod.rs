@@ -5,11 +5,12 @@
 
 pub mod drum;
 
+use polydem::body::BodyInit;
 use polydem::contact_law::NormalLaw;
 use polydem::material::{Material, PairTable};
-use polydem::math::DVec3;
+use polydem::math::{DQuat, DVec3};
 use polydem::rng::SplitMix64;
-use polydem::shape::Shape;
+use polydem::shape::{Shape, Sphere};
 use polydem::wall::{generators, Plane};
 use polydem::{World, WorldConfig};
 
@@ -154,6 +155,42 @@ pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World
         )
         .unwrap();
         w = w.with_mesh_walls(vec![mesh.into_wall(0).unwrap()]);
+    }
+    w
+}
+
+/// n³ spheres (13³ = 2,197 is above the size at which a world sorts its bodies in space by
+/// itself) of 1 mm radius on a jittered lattice 2.05 mm apart, added in a scrambled order, with
+/// random velocities and spins, falling into an open box, in a world of `threads` threads: many
+/// contacts with friction and rolling-friction history.
+pub fn scrambled_bed(n: usize, threads: usize) -> World {
+    let material = grain(0.1);
+    let spacing = 2.05e-3;
+    let width = spacing * n as f64 + 1e-3;
+    let mut w = open_box_world(material, width, 1e-5, Default::default(), threads);
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut random = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let count = n * n * n;
+    for k in 0..count {
+        // Cells in a scrambled order (multiplication by a number prime to the count).
+        let cell = (k * 1_000_003) % count;
+        let (i, j, l) = (cell % n, cell / n % n, cell / (n * n));
+        let jitter = DVec3::new(random(), random(), random()) * 4e-5;
+        w.add_body(BodyInit {
+            shape: Shape::Sphere(Sphere { radius: 1e-3 }),
+            material: 0,
+            position: DVec3::new(i as f64, j as f64, l as f64) * spacing
+                + DVec3::splat(1.5e-3)
+                + jitter,
+            orientation: DQuat::IDENTITY,
+            velocity: DVec3::new(random(), random(), random()) * 0.2,
+            angular_velocity: DVec3::new(random(), random(), random()) * 100.0,
+        });
     }
     w
 }
