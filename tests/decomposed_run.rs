@@ -8,12 +8,10 @@ mod common;
 
 use common::drum::drum;
 use polydem::body::BodyInit;
-use polydem::contact_law::NormalLaw;
 use polydem::decomposition::InProcessRanks;
-use polydem::material::PairTable;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
-use polydem::{World, WorldConfig};
+use polydem::World;
 use std::collections::BTreeMap;
 
 /// Every number of every owned body's state, as bits, by body id.
@@ -117,28 +115,29 @@ fn five_ranks_give_the_bits_of_one_world() {
     decomposed_run_matches_a_single_world(5);
 }
 
+/// Steps one world and its shares `spans` times `span` steps, and asserts after each span that
+/// every owned body has the bits of the one world's.
+fn step_alike(single: &mut World, shares: &mut InProcessRanks, spans: usize, span: u64) {
+    for _ in 0..spans {
+        single.run_steps(span);
+        for _ in 0..span {
+            shares.step().expect("every contact finds its entry");
+        }
+        let parts: Vec<&World> = shares.shares().collect();
+        assert!(
+            owned_bodies(&[&*single]) == owned_bodies(&parts),
+            "{} ranks differ from one world after {} steps",
+            parts.len(),
+            single.steps_done()
+        );
+    }
+}
+
 /// Two rows of resting spheres, 20 on either side of the cut two ranks make, off the line of a
 /// sphere that flies from far inside rank 0's region, deeper than any ghost layer, at a sphere
 /// resting just across the cut (so each rank holds the target, and only its owner the flier).
 fn flier_and_target() -> World {
-    let material = common::grain(0.0);
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    let mut w = World::new(WorldConfig {
-        time_step: 5e-6,
-        gravity: DVec3::ZERO,
-        materials: vec![material],
-        pair_laws: laws,
-        planes: Vec::new(),
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
+    let mut w = common::wall_free_world(common::grain(0.0), DVec3::ZERO, 5e-6);
     let r = 1e-3;
     let mut sphere = |position: DVec3, velocity: DVec3| {
         w.add_body(BodyInit {
@@ -189,18 +188,7 @@ fn a_body_flying_from_deep_in_a_share_strikes_as_in_one_world() {
         "rank 0 holds its 20 bodies and the target as a ghost"
     );
     // 0.1 m at 5 m/s: the strike comes after about 3,900 steps.
-    for _ in 0..100 {
-        single.run_steps(50);
-        for _ in 0..50 {
-            shares.step().expect("every contact finds its entry");
-        }
-        let parts: Vec<&World> = shares.shares().collect();
-        assert!(
-            owned_bodies(&[&single]) == owned_bodies(&parts),
-            "two ranks differ from one world after {} steps",
-            single.steps_done()
-        );
-    }
+    step_alike(&mut single, &mut shares, 100, 50);
     let target_speed = single.bodies().velocity[20].length();
     assert!(
         target_speed > 1.0,
@@ -238,18 +226,7 @@ fn shares_sorted_in_space_give_the_bits_of_one_world() {
         shares.shares().all(|w| !ids_in_order(w)),
         "sorted at the first drawing"
     );
-    for _ in 0..12 {
-        single.run_steps(100);
-        for _ in 0..100 {
-            shares.step().expect("every contact finds its entry");
-        }
-        let parts: Vec<&World> = shares.shares().collect();
-        assert!(
-            owned_bodies(&[&single]) == owned_bodies(&parts),
-            "two ranks differ from one world after {} steps",
-            single.steps_done()
-        );
-    }
+    step_alike(&mut single, &mut shares, 12, 100);
     // Redraws after the thousandth step sort the shares again.
     assert!(shares.redraws >= 3, "only {} redraws", shares.redraws);
 }

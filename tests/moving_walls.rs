@@ -2,13 +2,14 @@
 //! sphere to the analytic rolling speed, a turntable carries a particle round with it), a shaken
 //! closed box keeps its contents, wall forces and the work of moving walls are booked.
 
+mod common;
+
 use polydem::body::BodyInit;
-use polydem::contact_law::NormalLaw;
-use polydem::material::{Material, PairTable};
+use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{generators as shapes, Shape, Sphere};
 use polydem::wall::{generators, Ends, Facing, MeshWall, WallMotion};
-use polydem::{World, WorldConfig};
+use polydem::World;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -29,23 +30,7 @@ fn world_with_gravity(friction: f64, rolling_friction: f64, gravity: DVec3) -> W
         friction,
         rolling_friction,
     };
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
-    World::new(WorldConfig {
-        time_step: 2e-6,
-        gravity,
-        materials: vec![material],
-        pair_laws: laws,
-        planes: Vec::new(),
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap()
+    common::wall_free_world(material, gravity, 2e-6)
 }
 
 fn sphere_at(w: &mut World, position: DVec3) -> usize {

@@ -117,6 +117,28 @@ pub fn open_box_world(
     .unwrap()
 }
 
+/// A one-thread world under `gravity` with one material (Hertz, k_t/k_n = 2/7) and no walls; no
+/// bodies yet.
+pub fn wall_free_world(material: Material, gravity: DVec3, time_step: f64) -> World {
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        NormalLaw::Hertz,
+        2.0 / 7.0,
+        &[],
+    );
+    World::new(WorldConfig {
+        time_step,
+        gravity,
+        materials: vec![material],
+        pair_laws: laws,
+        planes: Vec::new(),
+        broad_phase: Default::default(),
+        skin: None,
+        threads: 1,
+    })
+    .unwrap()
+}
+
 /// A one-thread world under gravity −9.81 z with one material (Hertz, k_t/k_n = 2/7) and the
 /// floor, made of that material; no bodies yet.
 pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World {
