@@ -103,9 +103,9 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         }
         self.exchange();
         // One reduction for two questions: how far a body will have moved from where the shares
-        // were drawn (beyond its slack), and whether some share's neighbour search will remake its list next step.
-        // Then every share remakes its list at that step: a rank that remade its list alone
-        // would hold the others up at the next exchange.
+        // were drawn (beyond its slack), and whether some share's neighbour search will remake
+        // its list next step. Then every share remakes its list at that step: a rank that remade
+        // its list alone would hold the others up at the next exchange.
         let outlook = self.share.outlook();
         let mine = [
             outlook.excess_move,

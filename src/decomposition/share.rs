@@ -10,14 +10,15 @@
 //!   two skins (how far two bodies may move towards each other before the shares are redrawn,
 //!   with a margin), and keeps those it held within a skin more.
 //! - **Every step**, each share steps all its bodies; then each ghost takes its owner's state
-//!   (position, orientation, velocities, forces: [`Share::states_for`]): the owner summed every
-//!   contact of the body, the ghost's holder only some.
+//!   (position, orientation, velocities, forces: [`Share::put_states_for`]): the owner summed
+//!   every contact of the body, the ghost's holder only some.
 //! - **Redrawing** ([`Share::deliveries`], [`Share::receive`]). Before any body would move
 //!   [`REDRAW_AT`] skins (more if it lies deep in its owner's region) from where the shares were
-//!   drawn ([`World::share_outlook`], a maximum over the ranks), or when bodies left the domain, bodies change hands, ghosts come and go, and each
-//!   share makes its candidate list again. A body that changes owner brings its contacts'
-//!   histories from its old owner ([`World::contact_records`]): the new owner held it as a
-//!   ghost, but a ghost's contacts with other ghosts are not the exact ones.
+//!   drawn ([`World::share_outlook`], a maximum over the ranks), or when bodies left the domain,
+//!   bodies change hands, ghosts come and go, and each share makes its candidate list again. A
+//!   body that changes owner brings its contacts' histories from its old owner
+//!   ([`World::contact_records`]): the new owner held it as a ghost, but a ghost's contacts with
+//!   other ghosts are not the exact ones.
 //! - **Order.** Pairs are seen from the body of smaller id, and each body sums its contacts by
 //!   its partners' ids (`contact::ContactKey::order`), so the share's numbering changes no bit.
 
@@ -75,10 +76,9 @@ pub struct Share {
     drawn_at: Vec<DVec3>,
     /// How much farther than [`REDRAW_AT`] skins each body may move from there (see there).
     slack: Vec<f64>,
-    /// The step at which the share last put its bodies in space order, and the fewest bodies
-    /// it does that for (see [`Share::sort_in_space_if_due`]).
+    /// The step at which the share last put its bodies in space order (see
+    /// [`Share::sort_in_space_if_due`]).
     sorted_at: Option<u64>,
-    sort_min_bodies: usize,
 }
 
 impl Share {
@@ -96,7 +96,6 @@ impl Share {
             drawn_at: Vec::new(),
             slack: Vec::new(),
             sorted_at: None,
-            sort_min_bodies: SORT_MIN_BODIES,
         };
         share.start_from_whole(cuts);
         share
@@ -339,7 +338,7 @@ impl Share {
     fn sort_in_space_if_due(&mut self) {
         let steps = self.world.steps_done();
         let due = self.sorted_at.is_none_or(|at| steps >= at + SORT_INTERVAL);
-        if due && self.world.bodies().len() >= self.sort_min_bodies {
+        if due && self.world.bodies().len() >= SORT_MIN_BODIES {
             self.world.sort_bodies_in_space();
             self.sorted_at = Some(steps);
         }
