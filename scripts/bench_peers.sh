@@ -22,6 +22,9 @@
 #   ROUNDS=2                          alternations per scene and thread count
 #   SCENES="spheres_10k cubes_1k"     which scenes (spheres_65k takes about an hour a round)
 #   THREADS="1 2"                     threads (polydem, Yade) or MPI ranks (LIGGGHTS)
+#   POLYDEM_RANKS=1                   polydem too as MPI ranks of one thread each (issue #17):
+#                                     built with `--features mpi`, N > 1 under mpirun, so both
+#                                     codes' scaling over ranks shows side by side
 #   SPHERE_STEPS=10000 SPHERE_WINDOW=5000   steps, and the step the timed window starts at
 #   CUBE_STEPS=300 CUBE_WINDOW=100          (smaller values for a quick check)
 #   CUBE_SETTLE=10000                 polydem's untimed settling before the cubes' hand-over
@@ -47,6 +50,10 @@ missing=()
 command -v "$LIGGGHTS" >/dev/null || missing+=(liggghts)
 command -v "$YADE" >/dev/null || missing+=(yade)
 command -v mpirun >/dev/null || missing+=(openmpi-bin)
+if [ -n "${POLYDEM_RANKS:-}" ]; then
+  # rsmpi's build reads the MPI headers with bindgen (as in .ci/mpi)
+  command -v mpicc >/dev/null || missing+=(libopenmpi-dev libclang-dev)
+fi
 if [ ${#missing[@]} -gt 0 ]; then
   if [ -n "${NO_INSTALL:-}" ]; then
     echo "missing: ${missing[*]} (NO_INSTALL is set)" >&2
@@ -59,7 +66,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -q "${missing[@]}" >&2
 fi
 
-cargo build --release --quiet
+features=()
+[ -n "${POLYDEM_RANKS:-}" ] && features=(--features mpi)
+cargo build --release --quiet "${features[@]}"
 POLYDEM=./target/release/polydem
 mkdir -p "$OUT"
 LIGGGHTS_IN=bench/peers/liggghts/spheres.in
@@ -72,9 +81,13 @@ YADE_SCRIPT=bench/peers/yade/cubes.py
 field() { tr ' ' '\n' <<<"$2" | sed -n "s/^$1=//p"; }
 
 run_polydem() { # scene threads steps window_start log settle_steps
-  local line
-  "$POLYDEM" bench scene "bench/$1.toml" --threads "$2" --steps "$3" --window-start "$4" \
-    --settle-steps "$6" >"$5" 2>"$5.err" || { cat "$5.err" >&2; return 1; }
+  local line launch=("$POLYDEM") threads=$2
+  if [ -n "${POLYDEM_RANKS:-}" ]; then
+    threads=1
+    [ "$2" -gt 1 ] && launch=(mpirun --allow-run-as-root --bind-to none -n "$2" "$POLYDEM")
+  fi
+  "${launch[@]}" bench scene "bench/$1.toml" --threads "$threads" --steps "$3" --window-start "$4" \
+    --settle-steps "$6" >"$5" 2>"$5.err" </dev/null || { cat "$5.err" >&2; return 1; }
   line=$(grep '^polydem ' "$5")
   awk -v t="$(field seconds "$line")" -v pss="$(field particle_steps_per_s "$line")" \
     -v cpp="$(field contacts_per_particle "$line")" -v wall="$(field wall_contacts "$line")" \

@@ -343,6 +343,9 @@ impl Sorted {
             if let Some(ahead) = ahead.get(k + SORT_PREFETCH_AHEAD) {
                 prefetch_partner(inputs, ahead.partner);
             }
+            if let Some(h) = state.history.get(k + SORT_PREFETCH_AHEAD) {
+                prefetch(&h.tangential_spring.x);
+            }
             let kind = ids.kind[k];
             if kind == PairKind::Spheres {
                 let touches = spheres::overlaps(inputs, key);

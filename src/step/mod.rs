@@ -20,7 +20,7 @@ pub mod candidates;
 pub mod detect;
 pub mod forces;
 pub mod plane_lanes;
-mod prefetch;
+pub(crate) mod prefetch;
 pub mod space_order;
 pub mod sphere_lanes;
 pub mod spheres;
