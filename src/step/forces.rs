@@ -424,9 +424,7 @@ fn evaluate_sorted(
             let four = std::array::from_fn(|i| four[i] as usize);
             plane_lanes::touching_planes(inputs, ids, state, four, dt);
         }
-        for &k in fours.remainder() {
-            plane_lanes::one_by_one(inputs, ids, state, k as usize, dt);
-        }
+        plane_lanes::touching_planes_rest(inputs, ids, state, fours.remainder(), dt);
     }
     for &k in sorted.ended() {
         spheres::apart(state.entry(k as usize));

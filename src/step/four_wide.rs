@@ -6,6 +6,10 @@
 /// the entry point `$entry` that runs whichever the CPU has, or `$one(inputs, ids, state, k, dt)`
 /// for each entry `k` (the same numbers) where it has neither.
 ///
+/// The four entries may repeat one (a list's last one to three entries, padded): each kernel
+/// reads all it needs of its four entries before it writes any, and a repeated entry is written
+/// twice with the same numbers; the path one by one takes a repeated entry once.
+///
 /// A macro, because a closure or a generic argument would not be compiled with the wrappers'
 /// target features (see `crate::wide`): every lane operation would become a call.
 macro_rules! four_wide_kernel {
@@ -27,8 +31,10 @@ macro_rules! four_wide_kernel {
                 // SAFETY: the CPU has AVX, which is all `with_avx` is compiled for.
                 unsafe { with_avx(inputs, ids, state, entries, dt) };
             } else {
-                for k in entries {
-                    $one(inputs, ids, state, k, dt);
+                for (n, &k) in entries.iter().enumerate() {
+                    if !entries[..n].contains(&k) {
+                        $one(inputs, ids, state, k, dt);
+                    }
                 }
             }
             #[cfg(not(target_arch = "x86_64"))]
