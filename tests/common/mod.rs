@@ -117,9 +117,14 @@ pub fn open_box_world(
     .unwrap()
 }
 
-/// A one-thread world under `gravity` with one material (Hertz, k_t/k_n = 2/7) and no walls; no
+/// A one-thread world under `gravity` with one material (Hertz, k_t/k_n = 2/7) and `planes`; no
 /// bodies yet.
-pub fn wall_free_world(material: Material, gravity: DVec3, time_step: f64) -> World {
+fn one_material_world(
+    material: Material,
+    gravity: DVec3,
+    planes: Vec<Plane>,
+    time_step: f64,
+) -> World {
     let laws = PairTable::new(
         std::slice::from_ref(&material),
         NormalLaw::Hertz,
@@ -131,7 +136,7 @@ pub fn wall_free_world(material: Material, gravity: DVec3, time_step: f64) -> Wo
         gravity,
         materials: vec![material],
         pair_laws: laws,
-        planes: Vec::new(),
+        planes,
         broad_phase: Default::default(),
         skin: None,
         threads: 1,
@@ -139,15 +144,15 @@ pub fn wall_free_world(material: Material, gravity: DVec3, time_step: f64) -> Wo
     .unwrap()
 }
 
+/// A one-thread world under `gravity` with one material (Hertz, k_t/k_n = 2/7) and no walls; no
+/// bodies yet.
+pub fn wall_free_world(material: Material, gravity: DVec3, time_step: f64) -> World {
+    one_material_world(material, gravity, Vec::new(), time_step)
+}
+
 /// A one-thread world under gravity −9.81 z with one material (Hertz, k_t/k_n = 2/7) and the
 /// floor, made of that material; no bodies yet.
 pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World {
-    let laws = PairTable::new(
-        std::slice::from_ref(&material),
-        NormalLaw::Hertz,
-        2.0 / 7.0,
-        &[],
-    );
     let planes = match floor {
         Floor::Plane => vec![Plane {
             point: DVec3::ZERO,
@@ -156,17 +161,7 @@ pub fn world_on_floor(material: Material, floor: Floor, time_step: f64) -> World
         }],
         Floor::Mesh(_) => Vec::new(),
     };
-    let mut w = World::new(WorldConfig {
-        time_step,
-        gravity: DVec3::new(0.0, 0.0, -9.81),
-        materials: vec![material],
-        pair_laws: laws,
-        planes,
-        broad_phase: Default::default(),
-        skin: None,
-        threads: 1,
-    })
-    .unwrap();
+    let mut w = one_material_world(material, DVec3::new(0.0, 0.0, -9.81), planes, time_step);
     if let Floor::Mesh(cells) = floor {
         let mesh = generators::rectangle(
             DVec3::new(-0.1, -0.1037, 0.0),
