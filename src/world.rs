@@ -79,6 +79,9 @@ pub struct World {
     /// Per-chunk sums of the dissipated energy (working memory of `step::detect_and_evaluate`).
     dissipated_chunks: Vec<f64>,
     forces_current: bool,
+    /// Where a share of a decomposed world's bodies were when the shares were drawn; `None` in
+    /// a world that is no share.
+    drawing: Option<share::Drawing>,
     /// What the next opening half kick gives beyond the work the ledger books for it, when the
     /// forces were found again since the last step ([`World::update_contacts`]).
     kick_excess: f64,
@@ -125,6 +128,7 @@ impl World {
             motion: Vec::new(),
             dissipated_chunks: Vec::new(),
             forces_current: false,
+            drawing: None,
             kick_excess: 0.0,
             sort_interval: space_order::SORT_INTERVAL,
             times: StageTimes::default(),
@@ -322,7 +326,14 @@ impl World {
         );
         (self.bodies.force, self.bodies.torque) = (force, torque);
         clock.lap(&mut self.times.detect_and_evaluate);
-        step::accumulate(&mut self.bodies, &self.contacts, kick);
+        let ahead = kick
+            .and(self.drawing.as_ref())
+            .and_then(|d| d.lookahead(&self.search, self.bodies.len(), self.time_step));
+        let found = ahead.is_some();
+        let moves = step::accumulate(&mut self.bodies, &self.contacts, kick, ahead);
+        if let Some(d) = &mut self.drawing {
+            d.next = found.then_some(moves);
+        }
         self.book_wall_loads(dt);
         clock.lap(&mut self.times.accumulate);
         self.forces_current = true;

@@ -9,7 +9,7 @@ use super::{Decomposition, LocalBodies};
 use crate::contact::UnplacedContact;
 use crate::energy::EnergyReport;
 use crate::math::DVec3;
-use crate::world::World;
+use crate::world::{ShareOutlook, World};
 
 /// A world decomposed among ranks, all in this process.
 pub struct InProcessRanks {
@@ -66,14 +66,22 @@ impl InProcessRanks {
                 self.shares[to].take_states(from, &states);
             }
         }
-        let outlooks: Vec<_> = self.shares.iter().map(Share::outlook).collect();
-        let moved = outlooks.iter().map(|o| o.excess_move).fold(0.0, f64::max);
-        // As on MPI ranks: every share remakes its neighbour list when one would.
-        let expires = outlooks.iter().any(|o| o.search_expires);
-        if self.shares[0].must_redraw(moved) {
+        // As on MPI ranks: the shares' outlooks merged, so every share remakes its neighbour
+        // list at the same step.
+        let merged = self
+            .shares
+            .iter()
+            .map(Share::outlook)
+            .reduce(ShareOutlook::merge);
+        let Some(merged) = merged else {
+            return Ok(());
+        };
+        if self.shares[0].must_redraw(merged.excess_move) {
             self.redraw(false)?;
-        } else if expires {
-            self.shares.iter_mut().for_each(Share::expire_search);
+        } else {
+            for share in &mut self.shares {
+                share.expire_search_if_due(&merged);
+            }
         }
         Ok(())
     }

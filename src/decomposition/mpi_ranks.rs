@@ -18,7 +18,7 @@ use super::{Decomposition, LocalBodies};
 use crate::body::BodyMotionState;
 use crate::energy::EnergyReport;
 use crate::shape::Shape;
-use crate::world::{SharePart, World, WorldState};
+use crate::world::{ShareOutlook, SharePart, World, WorldState};
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
@@ -102,23 +102,23 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             return self.redraw(true);
         }
         self.exchange();
-        // One reduction for two questions: how far a body will have moved from where the shares
-        // were drawn (beyond its slack), and whether some share's neighbour search will remake
-        // its list next step. Then every share remakes its list at that step: a rank that remade
-        // its list alone would hold the others up at the next exchange.
-        let outlook = self.share.outlook();
-        let mine = [
-            outlook.excess_move,
-            f64::from(u8::from(outlook.search_expires)),
-        ];
-        let mut all = [0.0; 2];
-        self.communicator
-            .all_reduce_into(&mine[..], &mut all[..], SystemOperation::max());
-        let [moved, expires] = all;
-        if self.share.must_redraw(moved) {
+        // One gathering for two questions: how far an owned body will have moved from where the
+        // shares were drawn (beyond its slack), and how far from where the neighbour searches
+        // made their lists (the two largest over all the bodies, which no reduction of MPI's
+        // gives). Then every share remakes its list at the same step: a rank that remade its
+        // list alone would hold the others up at the next exchange.
+        let mine = self.share.outlook().to_array();
+        let mut all = vec![0.0; 3 * self.communicator.size() as usize];
+        self.communicator.all_gather_into(&mine[..], &mut all[..]);
+        let merged = all
+            .chunks_exact(3)
+            .map(|o| ShareOutlook::from_array([o[0], o[1], o[2]]))
+            .reduce(ShareOutlook::merge)
+            .expect("a communicator has a rank");
+        if self.share.must_redraw(merged.excess_move) {
             self.redraw(false)?;
-        } else if expires > 0.0 {
-            self.share.expire_search();
+        } else {
+            self.share.expire_search_if_due(&merged);
         }
         Ok(())
     }

@@ -34,8 +34,14 @@ use std::collections::{HashMap, HashSet};
 /// Shares are redrawn when a body would come this far (in skins) from where they were drawn. Two
 /// bodies that touch are within twice the largest bounding radius of each other; an owned body is
 /// then at most this far out of its owner's region, its partner at most this far from where it
-/// was drawn: within the ghost layer of two radii and two skins, with a fifth of a skin to
-/// spare for round-off in the prediction.
+/// was drawn: within the ghost layer of two radii and twice this and a tenth skins, with a fifth
+/// of a skin to spare for round-off in the prediction.
+///
+/// Two skins rather than one: a redraw makes every share's candidate list from scratch, and on
+/// the 65,000-sphere bed, settled, shares redrawn at 0.9 skins were redrawn 12 times in 1,000
+/// steps, at 1.9 skins 5 times (2.9: 4) for 16 % more ghosts, which cost little: pairs of two
+/// ghosts are no candidates (`step::candidates`), so a ghost beyond reach of the owned bodies
+/// is stepped and sent, no more.
 ///
 /// A body whose drawn place lies deeper in its owner's region than the layer and a skin (by
 /// [`Decomposition::depth`], the distance along an axis to the region's nearest cut) may go as
@@ -44,7 +50,7 @@ use std::collections::{HashMap, HashSet};
 /// keeps away from every body its owner does not hold (those were over a layer outside the
 /// region when drawn, and come no closer to it than they would without slack). So only bodies
 /// near a cut call for a redraw: in a settling bed, not every body that still bounces.
-pub const REDRAW_AT: f64 = 0.9;
+pub const REDRAW_AT: f64 = 1.9;
 
 /// What one share sends another when the shares are redrawn: the bodies the receiver is to hold
 /// (of those the sender owned), and the contacts of those the receiver takes over.
@@ -73,10 +79,6 @@ pub struct Share {
     receive: Vec<Vec<u32>>,
     /// The body count after the last exchange (bodies leaving the domain change it).
     count: usize,
-    /// Where each body was when the shares were last drawn.
-    drawn_at: Vec<DVec3>,
-    /// How much farther than [`REDRAW_AT`] skins each body may move from there (see there).
-    slack: Vec<f64>,
     /// The step at which the share last put its bodies in space order (see
     /// [`Share::sort_in_space_if_due`]).
     sorted_at: Option<u64>,
@@ -94,8 +96,6 @@ impl Share {
             send: Vec::new(),
             receive: Vec::new(),
             count: 0,
-            drawn_at: Vec::new(),
-            slack: Vec::new(),
             sorted_at: None,
         };
         share.start_from_whole(cuts);
@@ -125,15 +125,13 @@ impl Share {
         world.set_sort_interval(0);
         let b = world.bodies();
         let largest = b.bounding_radius.iter().fold(0.0, |m: f64, &r| m.max(r));
-        self.layer = 2.0 * largest + 2.0 * world.skin();
+        self.layer = 2.0 * largest + 2.0 * (REDRAW_AT + 0.1) * world.skin();
         let rank = self.rank;
         let ghost: Vec<bool> = b.position.iter().map(|&x| cuts.owner(x) != rank).collect();
         world.set_ghosts(&ghost);
         self.count = world.bodies().len();
         self.send = vec![Vec::new(); cuts.ranks()];
         self.receive = vec![Vec::new(); cuts.ranks()];
-        self.drawn_at.clear();
-        self.slack.clear();
     }
 
     pub fn world(&self) -> &World {
@@ -162,17 +160,21 @@ impl Share {
         self.world.bodies().len() != self.count
     }
 
-    /// What the shares must agree on before the next step, as this share sees it: how far a
-    /// body will have gone, after the next step's drift, beyond its slack from where it was
-    /// when the shares were drawn, and whether this share's neighbour search will make its list
-    /// again (see [`World::share_outlook`]).
+    /// What the shares must agree on before the next step, as this share sees it (merged over
+    /// the shares with [`ShareOutlook::merge`]): how far an owned body will have gone, after the
+    /// next step's drift, beyond its slack from where it was when the shares were drawn, and
+    /// how far from where the neighbour search made its list (see [`World::share_outlook`]).
     pub fn outlook(&self) -> ShareOutlook {
-        self.world.share_outlook(&self.drawn_at, &self.slack)
+        self.world.share_outlook()
     }
 
-    /// Makes this share's neighbour list again at the next step (another share does).
-    pub fn expire_search(&mut self) {
-        self.world.expire_search();
+    /// Makes this share's neighbour list again at the next step if the bodies' moves `merged`
+    /// over the shares call for it (another share's bodies may: then every share does, at the
+    /// same step, as a single world of all the bodies would).
+    pub fn expire_search_if_due(&mut self, merged: &ShareOutlook) {
+        if self.world.search_expires(merged.list_moves) {
+            self.world.expire_search();
+        }
     }
 
     /// Whether the shares must be redrawn before the next step, given the largest
@@ -325,17 +327,15 @@ impl Share {
         }
         let owned = deliveries.iter().flat_map(|d| &d.owned);
         self.index_exchange(&index, owned, &owner);
-        let b = self.world.bodies();
-        self.drawn_at.clone_from(&b.position);
         // A body deep in its owner's region may go farther before any rank's ghosts could miss
         // it: see [`REDRAW_AT`].
         let beyond = self.layer + self.world.skin();
-        self.slack.clear();
-        self.slack.extend(
-            b.position
-                .iter()
-                .map(|&x| (cuts.depth(x) - beyond).max(0.0)),
-        );
+        let drawn_at = self.world.bodies().position.clone();
+        let slack = drawn_at
+            .iter()
+            .map(|&x| (cuts.depth(x) - beyond).max(0.0))
+            .collect();
+        self.world.set_drawing(drawn_at, slack);
         Ok(())
     }
 

@@ -13,6 +13,7 @@ use crate::contact::{Candidate, PairKind, Partner, ShapeTraits};
 use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
+use crate::step::lookahead::{largest_two_of, with_largest_two};
 use crate::wall::{MeshWall, Plane, WallPose};
 use rayon::prelude::*;
 
@@ -186,7 +187,8 @@ impl NeighbourSearch {
     /// Planes within a skin of a body's bounding sphere (planes do not move, and a body moves at
     /// most a skin before the list is made again), and mesh walls with a triangle whose box comes
     /// within a skin of it (body and wall may each move half a skin before the list is made
-    /// again: see [`NeighbourSearch::moved_too_far`]).
+    /// again: see [`NeighbourSearch::moved_too_far`]). None for a ghost (see
+    /// [`NeighbourSearch::keep_near_pairs`]; its owner books the walls' loads).
     fn find_wall_candidates(&mut self, bodies: &Bodies, planes: &[Plane], walls: &[MeshWall]) {
         let skin = self.skin;
         self.wall_candidates.clear();
@@ -197,6 +199,7 @@ impl NeighbourSearch {
             (0..bodies.len() as u32)
                 .into_par_iter()
                 .with_min_len(256)
+                .filter(|&i| !bodies.is_ghost(i as usize))
                 .flat_map_iter(|i| {
                     let x = bodies.position[i as usize];
                     let r = bodies.bounding_radius[i as usize];
@@ -226,9 +229,14 @@ impl NeighbourSearch {
     /// keeping one (a mispredicted branch a pair cost more than the rest), each oriented by
     /// global id (body `a` the one with the smaller id, so that the pair is seen from the same
     /// side however the bodies are numbered); then the blocks are closed up in order.
+    ///
+    /// In a share of a decomposed world, a pair of two ghosts is left out: both are overwritten
+    /// with their owners' states after every step, so what their contact does to them is lost,
+    /// and a ghost that becomes owned takes its contacts from its old owner.
     fn keep_near_pairs(&mut self, bodies: &Bodies) {
         const BLOCK: usize = 4096;
         let (x, r, ids) = (&bodies.position, &bodies.bounding_radius, &bodies.id);
+        let ghost = &bodies.ghost;
         let skin = self.skin;
         self.kept.clear();
         self.kept
@@ -239,8 +247,9 @@ impl NeighbourSearch {
                     let (iu, ju) = (i as usize, j as usize);
                     let reach = r[iu] + r[ju] + skin;
                     let near = (x[iu] - x[ju]).length_squared() <= reach * reach;
+                    let ghosts = !ghost.is_empty() && ghost[iu] && ghost[ju];
                     block[kept] = if ids[iu] < ids[ju] { (i, j) } else { (j, i) };
-                    kept += near as usize;
+                    kept += (near && !ghosts) as usize;
                 }
                 kept
             }));
@@ -324,26 +333,12 @@ pub(crate) fn bodies_moved_too_far(moves: [f64; 2], skin: f64, mesh_walls: bool)
     moves[0] + moves[1] > skin || (mesh_walls && moves[0] > 0.5 * skin)
 }
 
-/// `top` (the two largest of some numbers, largest first) with `d` among them (a NaN is passed
-/// over, as by a comparison).
-#[inline]
-pub(crate) fn with_largest_two(top: [f64; 2], d: f64) -> [f64; 2] {
-    if d > top[0] {
-        [d, top[0]]
-    } else if d > top[1] {
-        [top[0], d]
-    } else {
-        top
-    }
-}
-
 /// The two largest of the square roots of `squared` (squared distances), largest first. Run
 /// every step over every body: two comparisons a body.
 pub(crate) fn largest_two(squared: impl ParallelIterator<Item = f64>) -> [f64; 2] {
-    let add = with_largest_two;
     let [first, second] = squared
-        .fold(|| [0.0, 0.0], add)
-        .reduce(|| [0.0, 0.0], |a, b| add(add(a, b[0]), b[1]));
+        .fold(|| [0.0, 0.0], with_largest_two)
+        .reduce(|| [0.0, 0.0], largest_two_of);
     [first.sqrt(), second.sqrt()]
 }
 
@@ -486,6 +481,50 @@ mod tests {
         assert!(
             !touching(&bodies, &planes).is_empty(),
             "nothing touched: no test"
+        );
+    }
+
+    /// In a share of a decomposed world, the list is that of the same bodies with no ghosts,
+    /// less the pairs of two ghosts and the ghosts' planes (whose loads a ghost's owner's state
+    /// overwrites).
+    #[test]
+    fn a_share_lists_no_pair_of_two_ghosts_nor_a_ghost_on_a_plane() {
+        let mut rng = SplitMix64::new(5);
+        let (mut bodies, shapes) = scattered(400, 12.0, &mut rng);
+        let floor = Plane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            material: MaterialId::default(),
+        };
+        let side = Plane {
+            point: DVec3::new(12.0, 0.0, 0.0),
+            normal: -DVec3::X,
+            material: MaterialId::default(),
+        };
+        let planes = [floor, side];
+        let list = |bodies: &Bodies| -> Vec<(u32, Partner)> {
+            let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
+            let made = search.update(bodies, &shapes, &planes, &[]).expect("made");
+            made.iter().map(|c| (c.a, c.partner)).collect()
+        };
+        let whole = list(&bodies);
+        let ghost: Vec<bool> = bodies.position.iter().map(|x| x.x > 6.0).collect();
+        bodies.set_ghosts(&ghost);
+        let share = list(&bodies);
+        let useful = |&(a, partner): &(u32, Partner)| match partner {
+            Partner::Body(b) => !(ghost[a as usize] && ghost[b as usize]),
+            _ => !ghost[a as usize],
+        };
+        let expected: Vec<_> = whole.iter().copied().filter(useful).collect();
+        assert_eq!(share, expected);
+        let ghosts_on_a_plane = whole
+            .iter()
+            .filter(|c| !matches!(c.1, Partner::Body(_)) && ghost[c.0 as usize])
+            .count();
+        let left_out = whole.len() - share.len();
+        assert!(
+            left_out > 100 && ghosts_on_a_plane > 10,
+            "{left_out} left out, {ghosts_on_a_plane} on a plane: no test"
         );
     }
 

@@ -17,6 +17,7 @@ use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
 use crate::step::detect;
+use crate::step::lookahead::{Lookahead, Moves};
 use crate::step::plane_lanes;
 use crate::step::prefetch::prefetch;
 use crate::step::sphere_lanes;
@@ -535,10 +536,18 @@ pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Re
 
 /// Completes the bodies' force and moment sums, which hold their own contacts' (as `a`, added by
 /// [`evaluate`]), with those of the contacts whose partner they are, in store order; then gives
-/// each body the step's closing half `kick`, if any, while its sums are at hand.
-pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>) {
+/// each body the step's closing half `kick`, if any, while its sums are at hand, and, given
+/// `ahead` (a share of a decomposed world), returns what it finds of the owned bodies' next move
+/// ([`Moves`]; [`Moves::NONE`] without it or without a kick).
+pub fn accumulate(
+    bodies: &mut Bodies,
+    store: &ContactStore,
+    kick: Option<Kick>,
+    ahead: Option<Lookahead>,
+) -> Moves {
     let load = store.loads();
     let Bodies {
+        position,
         orientation,
         velocity,
         angular_momentum,
@@ -547,9 +556,10 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
         inv_inertia,
         force,
         torque,
+        ghost,
         ..
     } = bodies;
-    let orientation = &*orientation;
+    let (position, orientation, ghost) = (&*position, &*orientation, &*ghost);
     let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
     let count = force.len();
     force
@@ -560,25 +570,29 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
         .zip(angular_velocity.par_iter_mut())
         .enumerate()
         .with_min_len(256)
-        .for_each(|(i, ((((force, torque), v), l), w))| {
-            // Entries that do not touch hold a zero load, so every entry is added without a test
-            // (whether a candidate touches is a coin toss, and a mispredicted branch per entry
-            // cost more than the addition): a sum that starts at +0 stays bit for bit the same
-            // when ±0 is added.
-            if i + PREFETCH_AHEAD < count {
-                for &e in store.incoming(i + PREFETCH_AHEAD) {
-                    prefetch(&load[e as usize]);
+        .fold(
+            || Moves::NONE,
+            |moves, (i, ((((force, torque), v), l), w))| {
+                // Entries that do not touch hold a zero load, so every entry is added without a
+                // test (whether a candidate touches is a coin toss, and a mispredicted branch per
+                // entry cost more than the addition): a sum that starts at +0 stays bit for bit
+                // the same when ±0 is added.
+                if i + PREFETCH_AHEAD < count {
+                    for &e in store.incoming(i + PREFETCH_AHEAD) {
+                        prefetch(&load[e as usize]);
+                    }
                 }
-            }
-            let (mut f, mut t) = (*force, *torque);
-            for &e in store.incoming(i) {
-                let e = e as usize;
-                f -= load[e].force;
-                t += load[e].torque_b;
-            }
-            *force = f;
-            *torque = t;
-            if let Some(kick) = kick {
+                let (mut f, mut t) = (*force, *torque);
+                for &e in store.incoming(i) {
+                    let e = e as usize;
+                    f -= load[e].force;
+                    t += load[e].torque_b;
+                }
+                *force = f;
+                *torque = t;
+                let Some(kick) = kick else {
+                    return moves;
+                };
                 let body = KickedBody {
                     velocity: v,
                     angular_momentum: l,
@@ -588,8 +602,15 @@ pub fn accumulate(bodies: &mut Bodies, store: &ContactStore, kick: Option<Kick>)
                     inv_inertia: &inv_inertia[i],
                 };
                 kick.apply(body, f, t);
-            }
-        });
+                match &ahead {
+                    Some(ahead) if !ghost.get(i).copied().unwrap_or(false) => {
+                        moves.with_body(ahead, &kick, i, (position[i], *v, f, inv_mass[i]))
+                    }
+                    _ => moves,
+                }
+            },
+        )
+        .reduce(|| Moves::NONE, Moves::merge)
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'

@@ -6,8 +6,9 @@
 //!    store (pairs that may touch in several places first, then the rest);
 //! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact, and
 //!    each body's sum of its own contacts' loads;
-//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is;
-//!    [`wall_loads`] the reactions on the walls.
+//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is,
+//!    and the closing half kick (in a share of a decomposed world, with the [`lookahead`] at the
+//!    bodies' next move); [`wall_loads`] the reactions on the walls.
 //!
 //! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]; a chunk holds the
 //! entries of whole bodies), so that a chunk's entries are still in cache when the laws read what
@@ -19,6 +20,7 @@ mod four_wide;
 pub mod candidates;
 pub mod detect;
 pub mod forces;
+pub mod lookahead;
 pub mod plane_lanes;
 pub(crate) mod prefetch;
 pub mod space_order;
@@ -30,6 +32,7 @@ pub mod wall_loads;
 pub use candidates::{NeighbourSearch, SearchState};
 pub use detect::{detect_regions, RegionOutput, Scene};
 pub use forces::{accumulate, LawInputs};
+pub use lookahead::{Lookahead, Moves};
 pub use timing::{StageTimes, Stopwatch};
 pub use wall_loads::{WallLoads, WallsNow};
 

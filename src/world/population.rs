@@ -99,6 +99,7 @@ impl World {
     pub(super) fn structure_changed(&mut self) {
         self.forces_current = false;
         self.search.invalidate();
+        self.drawing = None;
     }
 
     /// Renumbers the bodies along a space-filling curve (see `step::space_order`), with their
@@ -126,8 +127,9 @@ impl World {
         self.contacts
             .permute(&new_index, &self.bodies.id, &self.bodies.position);
         // The broad phase's lists name bodies by index: it starts afresh, and its first list
-        // carries the contacts' histories over.
+        // carries the contacts' histories over. A share's drawing names bodies by index too.
         self.search.invalidate();
+        self.drawing = None;
     }
 
     /// Steps between two automatic [`World::sort_bodies_in_space`] (0: never; by default

@@ -9,9 +9,11 @@
 use super::World;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
+use crate::integrate::Kick;
 use crate::math::DVec3;
-use crate::step::candidates::{bodies_moved_too_far, with_largest_two};
-use rayon::prelude::*;
+use crate::step::candidates::bodies_moved_too_far;
+use crate::step::lookahead::largest_two_of;
+use crate::step::{Lookahead, Moves, NeighbourSearch};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
@@ -55,18 +57,70 @@ impl RunningTotals {
 }
 
 /// What [`World::share_outlook`] finds, for the shares of a decomposed world to agree on before
-/// the next step.
+/// the next step (the shares' outlooks merged by [`ShareOutlook::merge`]: every body is some
+/// share's own).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShareOutlook {
-    /// The largest distance a body will be, after the next step's drift, from where the shares
-    /// were drawn, beyond its slack (0 if none goes beyond it): the shares are redrawn before it
-    /// would reach the bound their ghost layer allows.
+    /// The largest distance an owned body will be, after the next step's drift, from where the
+    /// shares were drawn, beyond its slack (0 if none goes beyond it): the shares are redrawn
+    /// before it would reach the bound their ghost layer allows.
     pub excess_move: f64,
-    /// Whether the neighbour search will make its list again at the next step (its bodies'
-    /// moves since the list was made, predicted alike, call for it:
-    /// `step::candidates::bodies_moved_too_far`). Walls move alike in every share and are
-    /// left out.
-    pub search_expires: bool,
+    /// The two largest distances an owned body will be, after the next step's drift, from where
+    /// the neighbour search made its list, largest first (infinite if it makes a new one
+    /// anyway): every share makes its list again when they call for it
+    /// ([`World::search_expires`]), as a single world of all the bodies would.
+    pub list_moves: [f64; 2],
+}
+
+impl ShareOutlook {
+    /// The outlook of the bodies of both.
+    pub fn merge(self, other: ShareOutlook) -> ShareOutlook {
+        ShareOutlook {
+            excess_move: self.excess_move.max(other.excess_move),
+            list_moves: largest_two_of(self.list_moves, other.list_moves),
+        }
+    }
+
+    /// As numbers, for a transport to carry ([`ShareOutlook::from_array`] reads them).
+    pub fn to_array(self) -> [f64; 3] {
+        [self.excess_move, self.list_moves[0], self.list_moves[1]]
+    }
+
+    pub fn from_array([excess_move, first, second]: [f64; 3]) -> Self {
+        ShareOutlook {
+            excess_move,
+            list_moves: [first, second],
+        }
+    }
+}
+
+/// Where the bodies of a share were when the shares were drawn, how much farther each may go,
+/// and what the last step's force sums found of their next move (see `step::lookahead`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Drawing {
+    drawn_at: Vec<DVec3>,
+    slack: Vec<f64>,
+    /// `None` when the forces were found again since (then [`World::share_outlook`] makes a
+    /// pass of its own).
+    pub(super) next: Option<Moves>,
+}
+
+impl Drawing {
+    /// What `step::accumulate` reads to find the next move of a world's `bodies` bodies, whose
+    /// neighbour search is `search`; `None` when they changed since the shares were drawn.
+    pub(super) fn lookahead<'a>(
+        &'a self,
+        search: &'a NeighbourSearch,
+        bodies: usize,
+        dt: f64,
+    ) -> Option<Lookahead<'a>> {
+        (self.drawn_at.len() == bodies).then(|| Lookahead {
+            drawn_at: &self.drawn_at,
+            slack: &self.slack,
+            listed: search.reference_positions().filter(|x| x.len() == bodies),
+            dt,
+        })
+    }
 }
 
 /// What one share of a decomposed world gives towards the whole: its owned bodies, their
@@ -131,6 +185,7 @@ impl World {
         self.next_id = share.next_id;
         self.forces_current = share.forces_current;
         self.bodies = Default::default();
+        self.drawing = None;
         for record in parts.iter().flat_map(|p| &p.bodies) {
             self.bodies.push_record(record, false);
         }
@@ -202,6 +257,7 @@ impl World {
         self.contacts.renumber(&new_index, |_| false);
         self.bodies.retain(keep);
         self.search.invalidate();
+        self.drawing = None;
     }
 
     /// Adds the body `record` describes, bit for bit, as a ghost. Its shape id names an entry of
@@ -216,10 +272,17 @@ impl World {
         );
         self.bodies.push_record(record, true);
         self.search.invalidate();
+        self.drawing = None;
     }
 
     /// Marks which bodies are ghosts (see `Bodies::ghost`).
     pub fn set_ghosts(&mut self, ghost: &[bool]) {
+        let had = (0..self.bodies.len()).map(|i| self.bodies.is_ghost(i));
+        if !had.eq(ghost.iter().copied()) {
+            // The candidate list leaves out pairs of two ghosts (`step::candidates`): a ghost
+            // that became owned needs its pairs with ghosts back.
+            self.search.expire();
+        }
         self.bodies.set_ghosts(ghost);
     }
 
@@ -251,64 +314,59 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
-    /// What a decomposed world asks of each share after every step, in one pass over the bodies
-    /// (see [`ShareOutlook`]): each body's place after the next step's drift, predicted from the
-    /// forces of the last evaluation, against where the shares were drawn (`drawn_at`, a place
-    /// per body, less `slack[i]`, how far body `i` may go beyond the shares' common bound) and
-    /// against where the neighbour search made its list.
-    pub fn share_outlook(&self, drawn_at: &[DVec3], slack: &[f64]) -> ShareOutlook {
-        let b = &self.bodies;
-        assert_eq!(drawn_at.len(), b.len(), "a place per body");
-        assert_eq!(slack.len(), b.len(), "a slack per body");
-        let listed = self
-            .search
-            .reference_positions()
-            .filter(|from| from.len() == b.len());
-        let (h, dt, g) = (0.5 * self.time_step, self.time_step, self.gravity);
-        // Blocks of bodies, each a serial loop; in parallel in the world's pool if it has more
-        // than one thread (a one-thread pool would only hand the pass to its worker and back).
-        let block = |range: std::ops::Range<usize>| {
-            let (mut excess, mut squared) = (f64::NEG_INFINITY, [0.0, 0.0]);
-            for i in range {
-                let v = b.velocity[i] + (b.force[i] * b.inv_mass[i] + g) * h;
-                let x = b.position[i] + v * dt;
-                excess = excess.max((x - drawn_at[i]).length() - slack[i]);
-                if let Some(from) = listed {
-                    squared = with_largest_two(squared, (x - from[i]).length_squared());
-                }
-            }
-            (excess, squared)
-        };
-        const BLOCK: usize = 8192;
-        let merge = |(e0, m0): (f64, [f64; 2]), (e1, m1): (f64, [f64; 2])| {
-            (
-                e0.max(e1),
-                with_largest_two(with_largest_two(m0, m1[0]), m1[1]),
-            )
-        };
-        let blocks = b.len().div_ceil(BLOCK);
-        let range = |k: usize| k * BLOCK..((k + 1) * BLOCK).min(b.len());
-        let none = (f64::NEG_INFINITY, [0.0, 0.0]);
-        let (excess, squared) = if self.pool.current_num_threads() == 1 {
-            (0..blocks).map(|k| block(range(k))).fold(none, merge)
-        } else {
-            self.pool.install(|| {
-                (0..blocks)
-                    .into_par_iter()
-                    .map(|k| block(range(k)))
-                    .reduce(|| none, merge)
-            })
-        };
+    /// Makes `drawn_at` the places of this share's bodies when the shares were drawn, and
+    /// `slack[i]` how much farther than the shares' common bound body `i` may go from there.
+    pub fn set_drawing(&mut self, drawn_at: Vec<DVec3>, slack: Vec<f64>) {
+        assert_eq!(drawn_at.len(), self.bodies.len(), "a place per body");
+        assert_eq!(slack.len(), self.bodies.len(), "a slack per body");
+        self.drawing = Some(Drawing {
+            drawn_at,
+            slack,
+            next: None,
+        });
+    }
+
+    /// What a decomposed world asks of each share after every step (see [`ShareOutlook`]):
+    /// each owned body's place after the next step's drift, predicted from the forces of the
+    /// last evaluation, against where the shares were drawn ([`World::set_drawing`]) and
+    /// against where the neighbour search made its list. Found by the last step's force sums
+    /// (`step::lookahead`), or, if the forces were found again since, by a pass of its own.
+    pub fn share_outlook(&self) -> ShareOutlook {
+        let drawing = self.drawing.as_ref().expect("the share was drawn");
+        let ahead = drawing
+            .lookahead(&self.search, self.bodies.len(), self.time_step)
+            .expect("the share's bodies are those drawn");
+        let moves = drawing.next.unwrap_or_else(|| self.lookahead_pass(ahead));
         ShareOutlook {
-            excess_move: excess.max(0.0),
-            search_expires: match listed {
-                Some(_) => {
-                    let moves = squared.map(f64::sqrt);
-                    bodies_moved_too_far(moves, self.skin(), !self.mesh_walls.is_empty())
-                }
-                None => true,
+            excess_move: moves.excess.max(0.0),
+            list_moves: match ahead.listed {
+                Some(_) => moves.listed_squared.map(f64::sqrt),
+                None => [f64::INFINITY; 2],
             },
         }
+    }
+
+    /// What `step::accumulate` finds of the owned bodies' next move with `ahead`, in a pass of
+    /// its own: the forces are those of the last evaluation and the velocities kicked.
+    pub(super) fn lookahead_pass(&self, ahead: Lookahead) -> Moves {
+        let b = &self.bodies;
+        let kick = Kick {
+            gravity: self.gravity,
+            h: 0.5 * self.time_step,
+        };
+        (0..b.len())
+            .filter(|&i| !b.is_ghost(i))
+            .fold(Moves::NONE, |moves, i| {
+                let body = (b.position[i], b.velocity[i], b.force[i], b.inv_mass[i]);
+                moves.with_body(&ahead, &kick, i, body)
+            })
+    }
+
+    /// Whether the bodies' two largest moves since the neighbour search made its list, after
+    /// the next step's drift, call for a new one (`list_moves`, merged over the shares of a
+    /// decomposed world: see [`ShareOutlook`]).
+    pub fn search_expires(&self, list_moves: [f64; 2]) -> bool {
+        bodies_moved_too_far(list_moves, self.skin(), !self.mesh_walls.is_empty())
     }
 
     /// Makes the neighbour search's list again at the next step: the shares of a decomposed

@@ -239,6 +239,7 @@ impl World {
         self.gravity = state.gravity;
         self.gravity_work = state.gravity_work;
         self.bodies = state.bodies;
+        self.drawing = None;
         self.shapes = shapes;
         self.dissipated = state.dissipated;
         self.energy_inserted = state.energy_inserted;
