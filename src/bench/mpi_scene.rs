@@ -45,6 +45,7 @@ pub fn run<C: Communicator>(
     }
     let seconds_before_window = start.elapsed().as_secs_f64();
     communicator.barrier();
+    let rebuilds_before = ranks.world().pair_rebuilds();
     let window = Instant::now();
     for _ in window_start..steps {
         ranks.step().map_err(|e| e.to_string())?;
@@ -58,11 +59,12 @@ pub fn run<C: Communicator>(
     };
     progress(&format!(
         "step {steps}: {} redraws, {} cuts, {} bodies changed owner, {} ghosts (summed over \
-         the ranks)",
+         the ranks); candidate lists made {} times in the window (each share alike)",
         ranks.total(ranks.redraws),
         ranks.total(ranks.rebalances),
         ranks.total(ranks.migrations),
         ranks.total(ghosts),
+        ranks.world().pair_rebuilds() - rebuilds_before,
     ));
     Ok(SceneTiming {
         name: scene_name(file),

@@ -80,7 +80,7 @@ impl InProcessRanks {
             self.redraw(false)?;
         } else {
             for share in &mut self.shares {
-                share.expire_search_if_due(&merged);
+                share.follow_search_outlook(&merged);
             }
         }
         Ok(())

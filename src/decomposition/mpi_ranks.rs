@@ -5,8 +5,9 @@
 //!
 //! Per step: one `MPI_Allreduce` (did bodies leave the domain?), the ghosts' states (an
 //! `MPI_Alltoallv` of 22 numbers per ghost: each rank knows how many it receives from whom), and
-//! one `MPI_Allreduce` (the largest predicted move, and whether some share's neighbour search
-//! remakes its list next step: then all do, at the same step). When the shares are redrawn: the owned counts
+//! one `MPI_Allgather` of three numbers a rank (the largest predicted move beyond the slack, and
+//! the two largest predicted moves since the neighbour lists were made: then every share remakes
+//! its list at the same step). When the shares are redrawn: the owned counts
 //! (one reduction; the cuts are made again, with a reduction per bisection probe, only when they
 //! drifted apart), and the deliveries as MessagePack bytes (`MPI_Alltoall` of the sizes, then
 //! `MPI_Alltoallv`). Every rank sends every other rank something, possibly nothing: fine for the
@@ -118,7 +119,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
         if self.share.must_redraw(merged.excess_move) {
             self.redraw(false)?;
         } else {
-            self.share.expire_search_if_due(&merged);
+            self.share.follow_search_outlook(&merged);
         }
         Ok(())
     }

@@ -170,11 +170,10 @@ impl Share {
 
     /// Makes this share's neighbour list again at the next step if the bodies' moves `merged`
     /// over the shares call for it (another share's bodies may: then every share does, at the
-    /// same step, as a single world of all the bodies would).
-    pub fn expire_search_if_due(&mut self, merged: &ShareOutlook) {
-        if self.world.search_expires(merged.list_moves) {
-            self.world.expire_search();
-        }
+    /// same step, as a single world of all the bodies would); otherwise the next step does not
+    /// look at the moves again.
+    pub fn follow_search_outlook(&mut self, merged: &ShareOutlook) {
+        self.world.follow_search_outlook(merged.list_moves);
     }
 
     /// Whether the shares must be redrawn before the next step, given the largest

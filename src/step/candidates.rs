@@ -28,6 +28,9 @@ pub struct NeighbourSearch {
     /// Where the mesh walls were when the list was made.
     reference_pose: Vec<WallPose>,
     valid: bool,
+    /// Whether the bodies' moves since the list was made were found too small for a new list
+    /// elsewhere, for the next update only (see [`NeighbourSearch::moves_checked_elsewhere`]).
+    moves_checked: bool,
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     /// Per block of `pairs`, how many were kept (working memory of the search).
@@ -62,6 +65,7 @@ impl NeighbourSearch {
             reference_position: Vec::new(),
             reference_pose: Vec::new(),
             valid: false,
+            moves_checked: false,
             boxes: Vec::new(),
             pairs: Vec::new(),
             kept: Vec::new(),
@@ -97,6 +101,7 @@ impl NeighbourSearch {
         self.reference_position = state.reference_position;
         self.reference_pose = state.reference_pose;
         self.valid = state.valid;
+        self.moves_checked = false;
         self.rebuilds = state.rebuilds;
     }
 
@@ -108,6 +113,13 @@ impl NeighbourSearch {
     /// Where the bodies were when the list was made (`None` when it must be made anew anyway).
     pub fn reference_positions(&self) -> Option<&[DVec3]> {
         self.valid.then_some(&self.reference_position[..])
+    }
+
+    /// The next update takes the list to hold as far as the bodies' moves go (it still looks at
+    /// the mesh walls'): the shares of a decomposed world found their moves over all the bodies
+    /// before this step (`World::share_outlook`), and would only repeat the pass over theirs.
+    pub fn moves_checked_elsewhere(&mut self) {
+        self.moves_checked = true;
     }
 
     /// Makes the list again at the next update, as if a body had moved half a skin (the broad
@@ -132,7 +144,8 @@ impl NeighbourSearch {
         walls: &[MeshWall],
     ) -> Option<&[Candidate]> {
         let half_skin = 0.5 * self.skin;
-        if self.valid && !self.moved_too_far(bodies, walls) {
+        let moves_checked = std::mem::take(&mut self.moves_checked);
+        if self.valid && !self.moved_too_far(bodies, walls, moves_checked) {
             return None;
         }
         self.boxes.clear();
@@ -165,13 +178,15 @@ impl NeighbourSearch {
     ///
     /// The two largest rather than twice the largest: in a settling bed a few bodies still
     /// bounce while the rest creep, and the list then lasts until the creep adds up.
-    fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall]) -> bool {
+    ///
+    /// `moves_checked`: the bodies' moves were found to call for no new list elsewhere.
+    fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall], moves_checked: bool) -> bool {
         let half_skin = 0.5 * self.skin;
         let wall_moved = walls.iter().zip(&self.reference_pose).any(|(w, then)| {
             !w.motion.keeps_place() && wall_displacement(w, then, &w.pose()) > half_skin
         });
-        if wall_moved {
-            return true;
+        if wall_moved || moves_checked {
+            return wall_moved;
         }
         let moves = largest_two(
             bodies

@@ -53,7 +53,11 @@ impl Moves {
 
     /// With body `i`, whose velocity after the closing `kick` is `v` and whose force is `f`:
     /// the next step's opening kick and drift, as `integrate::kick_drift` makes them.
-    #[inline]
+    ///
+    /// Always inlined: called out of line, the body's numbers went through the stack and were
+    /// read back in halves, a stalled load per body (`perf annotate`: 7.6 % of a rank's samples
+    /// in this function, nearly half of them on one such load).
+    #[inline(always)]
     pub fn with_body(
         self,
         ahead: &Lookahead,

@@ -68,7 +68,7 @@ pub struct ShareOutlook {
     /// The two largest distances an owned body will be, after the next step's drift, from where
     /// the neighbour search made its list, largest first (infinite if it makes a new one
     /// anyway): every share makes its list again when they call for it
-    /// ([`World::search_expires`]), as a single world of all the bodies would.
+    /// ([`World::follow_search_outlook`]), as a single world of all the bodies would.
     pub list_moves: [f64; 2],
 }
 
@@ -362,17 +362,16 @@ impl World {
             })
     }
 
-    /// Whether the bodies' two largest moves since the neighbour search made its list, after
-    /// the next step's drift, call for a new one (`list_moves`, merged over the shares of a
-    /// decomposed world: see [`ShareOutlook`]).
-    pub fn search_expires(&self, list_moves: [f64; 2]) -> bool {
-        bodies_moved_too_far(list_moves, self.skin(), !self.mesh_walls.is_empty())
-    }
-
-    /// Makes the neighbour search's list again at the next step: the shares of a decomposed
-    /// world remake theirs at the same steps, so that none waits for another that does.
-    pub fn expire_search(&mut self) {
-        self.search.expire();
+    /// Makes the neighbour search's list again at the next step if the bodies' two largest
+    /// moves since it was made, after the next step's drift, call for it (`list_moves`, merged
+    /// over the shares of a decomposed world: see [`ShareOutlook`]); otherwise the next step
+    /// takes them as checked (the mesh walls' moves it checks itself).
+    pub fn follow_search_outlook(&mut self, list_moves: [f64; 2]) {
+        if bodies_moved_too_far(list_moves, self.skin(), !self.mesh_walls.is_empty()) {
+            self.search.expire();
+        } else {
+            self.search.moves_checked_elsewhere();
+        }
     }
 
     /// Makes this share's running totals (energy dissipated, inserted and removed, the work of
