@@ -413,6 +413,15 @@ mod tests {
         (bodies, vec![Shape::Sphere(Sphere::new(1.0))])
     }
 
+    /// The plane z = 0, facing up.
+    fn floor() -> Plane {
+        Plane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            material: MaterialId::default(),
+        }
+    }
+
     /// The pairs and plane contacts that touch now, each as the list names it.
     fn touching(bodies: &Bodies, planes: &[Plane]) -> Vec<(u32, Partner)> {
         let (x, r) = (&bodies.position, &bodies.bounding_radius);
@@ -440,12 +449,7 @@ mod tests {
     fn the_list_holds_every_contact_until_the_two_largest_moves_add_up_to_a_skin() {
         let mut rng = SplitMix64::new(11);
         let (mut bodies, shapes) = scattered(300, 16.0, &mut rng);
-        let floor = Plane {
-            point: DVec3::ZERO,
-            normal: DVec3::Z,
-            material: MaterialId::default(),
-        };
-        let planes = [floor];
+        let planes = [floor()];
         let skin = 0.2;
         let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, skin);
         let mut list: Vec<(u32, Partner)> = Vec::new();
@@ -506,17 +510,12 @@ mod tests {
     fn a_share_lists_no_pair_of_two_ghosts_nor_a_ghost_on_a_plane() {
         let mut rng = SplitMix64::new(5);
         let (mut bodies, shapes) = scattered(400, 12.0, &mut rng);
-        let floor = Plane {
-            point: DVec3::ZERO,
-            normal: DVec3::Z,
-            material: MaterialId::default(),
-        };
         let side = Plane {
             point: DVec3::new(12.0, 0.0, 0.0),
             normal: -DVec3::X,
             material: MaterialId::default(),
         };
-        let planes = [floor, side];
+        let planes = [floor(), side];
         let list = |bodies: &Bodies| -> Vec<(u32, Partner)> {
             let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
             let made = search.update(bodies, &shapes, &planes, &[]).expect("made");

@@ -9,7 +9,6 @@
 use super::World;
 use crate::body::{BodyMotionState, BodyRecord};
 use crate::contact::{EntryRecord, UnplacedContact};
-use crate::integrate::Kick;
 use crate::math::DVec3;
 use crate::step::candidates::bodies_moved_too_far;
 use crate::step::lookahead::largest_two_of;
@@ -100,8 +99,8 @@ impl ShareOutlook {
 pub(super) struct Drawing {
     drawn_at: Vec<DVec3>,
     slack: Vec<f64>,
-    /// `None` when the forces were found again since (then [`World::share_outlook`] makes a
-    /// pass of its own).
+    /// `None` when the forces were found again since (then [`World::share_outlook`] calls for a
+    /// redraw).
     pub(super) next: Option<Moves>,
 }
 
@@ -329,37 +328,27 @@ impl World {
     /// What a decomposed world asks of each share after every step (see [`ShareOutlook`]):
     /// each owned body's place after the next step's drift, predicted from the forces of the
     /// last evaluation, against where the shares were drawn ([`World::set_drawing`]) and
-    /// against where the neighbour search made its list. Found by the last step's force sums
-    /// (`step::lookahead`), or, if the forces were found again since, by a pass of its own.
+    /// against where the neighbour search made its list, as the last step's force sums found
+    /// it (`step::lookahead`). If they found none (the forces were found again since, or the
+    /// bodies changed since the drawing), the outlook calls for a redraw, which is always safe.
     pub fn share_outlook(&self) -> ShareOutlook {
-        let drawing = self.drawing.as_ref().expect("the share was drawn");
-        let ahead = drawing
-            .lookahead(&self.search, self.bodies.len(), self.time_step)
-            .expect("the share's bodies are those drawn");
-        let moves = drawing.next.unwrap_or_else(|| self.lookahead_pass(ahead));
-        ShareOutlook {
-            excess_move: moves.excess.max(0.0),
-            list_moves: match ahead.listed {
-                Some(_) => moves.listed_squared.map(f64::sqrt),
-                None => [f64::INFINITY; 2],
+        let listed = self
+            .search
+            .reference_positions()
+            .is_some_and(|x| x.len() == self.bodies.len());
+        match self.drawing.as_ref().and_then(|d| d.next) {
+            Some(moves) => ShareOutlook {
+                excess_move: moves.excess.max(0.0),
+                list_moves: match listed {
+                    true => moves.listed_squared.map(f64::sqrt),
+                    false => [f64::INFINITY; 2],
+                },
+            },
+            None => ShareOutlook {
+                excess_move: f64::INFINITY,
+                list_moves: [f64::INFINITY; 2],
             },
         }
-    }
-
-    /// What `step::accumulate` finds of the owned bodies' next move with `ahead`, in a pass of
-    /// its own: the forces are those of the last evaluation and the velocities kicked.
-    pub(super) fn lookahead_pass(&self, ahead: Lookahead) -> Moves {
-        let b = &self.bodies;
-        let kick = Kick {
-            gravity: self.gravity,
-            h: 0.5 * self.time_step,
-        };
-        (0..b.len())
-            .filter(|&i| !b.is_ghost(i))
-            .fold(Moves::NONE, |moves, i| {
-                let body = (b.position[i], b.velocity[i], b.force[i], b.inv_mass[i]);
-                moves.with_body(&ahead, &kick, i, body)
-            })
     }
 
     /// Makes the neighbour search's list again at the next step if the bodies' two largest
