@@ -136,6 +136,27 @@ impl Bodies {
         self.position.is_empty()
     }
 
+    /// Room for `additional` more bodies, exactly: a scene's bodies are counted before they are
+    /// added, and pushing them one by one would double every array up to twice their number.
+    pub fn reserve(&mut self, additional: usize) {
+        self.id.reserve_exact(additional);
+        self.shape.reserve_exact(additional);
+        self.material.reserve_exact(additional);
+        self.bounding_radius.reserve_exact(additional);
+        self.equivalent_radius.reserve_exact(additional);
+        self.position.reserve_exact(additional);
+        self.orientation.reserve_exact(additional);
+        self.velocity.reserve_exact(additional);
+        self.angular_momentum.reserve_exact(additional);
+        self.angular_velocity.reserve_exact(additional);
+        self.mass.reserve_exact(additional);
+        self.inv_mass.reserve_exact(additional);
+        self.inertia.reserve_exact(additional);
+        self.inv_inertia.reserve_exact(additional);
+        self.force.reserve_exact(additional);
+        self.torque.reserve_exact(additional);
+    }
+
     /// Appends a body; `mass` and `inertia` come from the shape's mass properties and density.
     #[allow(clippy::too_many_arguments)]
     pub fn push(

@@ -26,6 +26,7 @@ pub mod run;
 pub mod scene;
 pub mod shape;
 pub mod step;
+pub mod tight;
 pub mod time_table;
 pub mod timestep;
 pub mod wall;

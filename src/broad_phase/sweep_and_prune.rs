@@ -1,6 +1,7 @@
 use super::{BroadPhase, CellGrid, Pair};
 use crate::groups::for_each_group_mut;
 use crate::math::{Aabb, DVec3};
+use crate::tight::{resize_tight, trim};
 use rayon::prelude::*;
 
 mod region;
@@ -609,7 +610,9 @@ fn write_pairs(partners: &[Vec<Partner>], starts: &mut Vec<u32>, pairs: &mut Vec
         starts.push(total);
     }
     pairs.clear();
-    pairs.resize(total as usize, (0, 0));
+    resize_tight(pairs, total as usize, (0, 0));
+    // A rebuild may have pushed its pairs into the same list (doubling it).
+    trim(pairs);
     for_each_group_mut(pairs, starts, |i, out| {
         for (slot, p) in out.iter_mut().zip(&partners[i]) {
             *slot = (i as u32, p.body);

@@ -21,6 +21,7 @@ use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{permute_in_place, DVec3};
 use crate::narrow_phase::{self, ContactPoint, Geometry};
 use crate::shape::Shape;
+use crate::tight::resize_tight;
 use crate::wall::Plane;
 
 mod pass;
@@ -171,16 +172,6 @@ impl StoreLayout {
             spins: polyhedra || rolling_friction,
         }
     }
-}
-
-/// `values.resize(len, value)`, but growing the capacity to `len` and an eighth rather than
-/// doubling it: the store is most of a run's memory, and the count of candidates changes a
-/// little at each neighbour search.
-fn resize_tight<T: Clone>(values: &mut Vec<T>, len: usize, value: T) {
-    if len > values.capacity() {
-        values.reserve_exact(len + len / 8 - values.len());
-    }
-    values.resize(len, value);
 }
 
 impl ContactStore {

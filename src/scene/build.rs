@@ -142,6 +142,7 @@ impl Scene {
             )),
             None => world,
         };
+        world.reserve_bodies(bodies.len());
         for (init, _) in bodies {
             world.add_body(init);
         }

@@ -14,6 +14,7 @@ use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::lookahead::{largest_two_of, with_largest_two};
+use crate::tight::resize_tight;
 use crate::wall::{MeshWall, Plane, WallPose};
 use rayon::prelude::*;
 
@@ -325,7 +326,7 @@ impl NeighbourSearch {
             kind: PairKind::Single,
         };
         self.list.clear();
-        self.list.resize(items, unset);
+        resize_tight(&mut self.list, items, unset);
         let next = &mut self.next;
         next.clear();
         next.extend_from_slice(&first[..bodies.len()]);

@@ -10,6 +10,12 @@ use crate::step::space_order;
 use rayon::prelude::*;
 
 impl World {
+    /// Room for `additional` more bodies ([`crate::body::Bodies::reserve`]), before adding a
+    /// scene's.
+    pub fn reserve_bodies(&mut self, additional: usize) {
+        self.bodies.reserve(additional);
+    }
+
     /// Adds a body while setting up; its id is its insertion number. Returns the body's index.
     pub fn add_body(&mut self, init: BodyInit) -> usize {
         let density = self.materials[init.material as usize].density;

@@ -2,6 +2,7 @@
 //! the global candidate set its events update.
 
 use crate::math::Aabb;
+use crate::tight::{reserve_tight, resize_tight, trim};
 
 /// A begin or end point of one member's interval on one axis.
 #[derive(Clone, Copy, Debug)]
@@ -212,8 +213,10 @@ impl Region {
     /// Sorts the lists of freshly listed `members` from scratch. Returns, per axis, the number of
     /// pairs of members whose intervals overlap on that axis (the cost of a sweep along it).
     pub fn build(&mut self, boxes: &[Aabb]) -> [usize; 3] {
+        trim(&mut self.members);
         self.rank.clear();
         self.rank.resize(self.members.len(), [[0; 2]; 3]);
+        trim(&mut self.rank);
         let mut overlaps = [0; 3];
         let mut sorted = Vec::with_capacity(2 * self.members.len());
         for (axis, list) in self.lists.iter_mut().enumerate() {
@@ -235,6 +238,11 @@ impl Region {
             list.clear();
             list.value.extend(list_.iter().map(|e| e.value));
             list.tag.extend(list_.iter().map(|e| e.tag));
+            // Room for the few members that enter before the next rebuild, no more: the lists
+            // are most of the search's memory, and doubling them on the first entrant would
+            // leave half of every region's lists unused.
+            trim(&mut list.value);
+            trim(&mut list.tag);
             let mut open = 0usize;
             for (pos, e) in list_.iter().enumerate() {
                 self.rank[e.local()][axis][e.kind()] = pos as u32;
@@ -535,8 +543,9 @@ impl Region {
                 }
             }
         }
+        reserve_tight(&mut self.members, entering.len());
         self.members.extend_from_slice(entering);
-        self.rank.resize(self.members.len(), [[0; 2]; 3]);
+        resize_tight(&mut self.rank, self.members.len(), [[0; 2]; 3]);
         for (axis, list) in self.lists.iter_mut().enumerate() {
             scratch.clear();
             for (n, &body) in entering.iter().enumerate() {
@@ -564,6 +573,8 @@ impl Region {
 /// position that changed.
 fn merge(list: &mut List, add: &[Endpoint]) -> usize {
     let mut i = list.len();
+    reserve_tight(&mut list.value, add.len());
+    reserve_tight(&mut list.tag, add.len());
     list.value.extend(add.iter().map(|e| e.value));
     list.tag.extend(add.iter().map(|e| e.tag));
     let (mut j, mut w) = (add.len(), list.len());
@@ -579,4 +590,65 @@ fn merge(list: &mut List, add: &[Endpoint]) -> usize {
         }
     }
     w
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::DVec3;
+
+    /// A row of `n` unit boxes along x, `spacing` apart.
+    fn row(n: usize, spacing: f64) -> Vec<Aabb> {
+        (0..n)
+            .map(|i| Aabb::around_sphere(DVec3::new(i as f64 * spacing, 0.0, 0.0), 0.5))
+            .collect()
+    }
+
+    fn widest(region: &Region) -> usize {
+        let lists = region
+            .lists
+            .iter()
+            .flat_map(|l| [l.value.capacity(), l.tag.capacity()]);
+        lists.max().unwrap_or(0)
+    }
+
+    /// Regression (issue #18, memory): a region's lists were filled by pushes and then doubled by
+    /// the first body entering, so at the peak up to half of the broad phase's memory was unused.
+    #[test]
+    fn a_region_keeps_an_eighth_of_room_not_twice_its_lists() {
+        let mut boxes = row(1000, 2.0);
+        let mut region = Region::default();
+        region.members.extend(0..999);
+        region.build(&boxes);
+        let endpoints = 2 * 999;
+        assert!(
+            widest(&region) <= endpoints + endpoints / 8,
+            "{}",
+            widest(&region)
+        );
+        assert!(region.members.capacity() <= 999 + 999 / 8);
+
+        // One body enters, overlapping the last member: its pair enters, and the room kept
+        // takes it without a regrowth.
+        boxes[999] = Aabb::around_sphere(DVec3::new(1996.5, 0.0, 0.0), 0.5);
+        let mut scratch = Scratch::default();
+        region.update(&[], &[(0, 999)], &boxes, usize::MAX, &mut scratch);
+        assert_eq!(region.events, vec![(999, 998, true)]);
+        assert_eq!(region.len(), 1000);
+        assert!(widest(&region) <= 2000 + 2000 / 8);
+
+        // Many enter: the lists grow to their new length and an eighth, not to twice it.
+        let more = row(3000, 2.0);
+        let entering: Vec<(u32, u32)> = (1000..3000).map(|b| (0, b)).collect();
+        region.update(&[], &entering, &more, usize::MAX, &mut scratch);
+        assert_eq!(region.len(), 3000);
+        let endpoints = 2 * 3000;
+        assert!(
+            widest(&region) <= endpoints + endpoints / 8,
+            "{}",
+            widest(&region)
+        );
+        assert!(region.members.capacity() <= 3000 + 3000 / 8);
+        assert!(region.rank.capacity() <= 3000 + 3000 / 8);
+    }
 }

@@ -3,8 +3,9 @@
 //! the arrays side by side in parallel. Both are pure data movement and lookups, so the store
 //! comes out the same whatever the thread count.
 
-use super::{resize_tight, Candidate};
+use super::Candidate;
 use crate::contact::key::ContactKey;
+use crate::tight::resize_tight;
 use rayon::prelude::*;
 
 /// The fate of an old entry whose key is no longer among the candidates'.
