@@ -1,15 +1,26 @@
-//! Vectors grown by an eighth rather than doubled, for the arrays that hold most of a run's
-//! memory: the contact store's, and the neighbour search's lists. Their lengths change a little
-//! at each neighbour search, so `Vec`'s doubling would leave up to half of each unused at the
-//! peak (issue #18's memory target), while an eighth keeps regrowths rare.
+//! Vectors grown to their new length and a sixteenth rather than doubled, for the arrays that
+//! hold most of a run's memory: the contact store's, and the neighbour search's lists. Their
+//! lengths change a little at each neighbour search, so `Vec`'s doubling would leave up to half
+//! of each unused at the peak (issue #18's memory target). A regrowth is cheap: arrays this large
+//! are mappings of their own (`src/bin/polydem.rs` sets glibc's mmap threshold), which `realloc`
+//! moves with `mremap`, without copying.
 
-/// Makes room for `additional` more values: when the capacity is short, it grows to the new
-/// length and an eighth of it.
+/// The room kept beyond the length: a `ROOM`th of it.
+pub const ROOM: usize = 16;
+
+/// The capacity kept for `len` values: `len` and a [`ROOM`]th.
+#[inline]
+pub fn with_room(len: usize) -> usize {
+    len + len / ROOM
+}
+
+/// Makes room for `additional` more values: when the capacity is short, it grows to
+/// [`with_room`] of the new length.
 #[inline]
 pub fn reserve_tight<T>(values: &mut Vec<T>, additional: usize) {
     let len = values.len() + additional;
     if len > values.capacity() {
-        values.reserve_exact(len + len / 8 - values.len());
+        values.reserve_exact(with_room(len) - values.len());
     }
 }
 
@@ -20,13 +31,15 @@ pub fn resize_tight<T: Clone>(values: &mut Vec<T>, len: usize, value: T) {
     values.resize(len, value);
 }
 
-/// Gives back what the capacity holds beyond the length and an eighth (after a list was filled
-/// by pushes, which double it).
+/// Sets the capacity to [`with_room`] of the length: gives back what pushes (which double it)
+/// left beyond it, or makes the room, after a list was filled anew.
 #[inline]
-pub fn trim<T>(values: &mut Vec<T>) {
-    let keep = values.len() + values.len() / 8;
+pub fn keep_room<T>(values: &mut Vec<T>) {
+    let keep = with_room(values.len());
     if values.capacity() > keep {
         values.shrink_to(keep);
+    } else {
+        values.reserve_exact(keep - values.len());
     }
 }
 
@@ -35,16 +48,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn growth_is_an_eighth_not_a_doubling() {
+    fn growth_keeps_a_sixteenth_not_a_doubling() {
         let mut v: Vec<u32> = Vec::new();
         resize_tight(&mut v, 800, 1);
         assert_eq!(v.len(), 800);
-        assert_eq!(v.capacity(), 900);
+        assert_eq!(v.capacity(), 850);
         // Within the capacity: no regrowth.
-        resize_tight(&mut v, 900, 2);
-        assert_eq!(v.capacity(), 900);
-        reserve_tight(&mut v, 100);
-        assert_eq!(v.capacity(), 1000 + 125);
+        resize_tight(&mut v, 850, 2);
+        assert_eq!(v.capacity(), 850);
+        reserve_tight(&mut v, 150);
+        assert_eq!(v.capacity(), 1000 + 62);
         // Shrinking keeps the capacity; values past the old length take the new value.
         resize_tight(&mut v, 10, 3);
         assert_eq!((v.len(), v[9]), (10, 1));
@@ -52,18 +65,21 @@ mod tests {
     }
 
     #[test]
-    fn trim_keeps_an_eighth() {
+    fn keep_room_gives_back_or_makes_a_sixteenth() {
         let mut v: Vec<u64> = Vec::with_capacity(4096);
         v.extend(0..1000);
-        trim(&mut v);
+        keep_room(&mut v);
         assert!(
-            v.capacity() >= 1125 && v.capacity() < 4096,
+            v.capacity() >= 1062 && v.capacity() < 4096,
             "{}",
             v.capacity()
         );
         assert_eq!(v.iter().sum::<u64>(), 999 * 1000 / 2);
         let before = v.capacity();
-        trim(&mut v);
+        keep_room(&mut v);
         assert_eq!(v.capacity(), before);
+        let mut exact: Vec<u64> = (0..1600).collect();
+        keep_room(&mut exact);
+        assert!(exact.capacity() >= 1700);
     }
 }

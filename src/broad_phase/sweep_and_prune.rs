@@ -1,7 +1,7 @@
 use super::{BroadPhase, CellGrid, Pair};
 use crate::groups::for_each_group_mut;
 use crate::math::{Aabb, DVec3};
-use crate::tight::{resize_tight, trim};
+use crate::tight::{keep_room, resize_tight};
 use rayon::prelude::*;
 
 mod region;
@@ -612,7 +612,7 @@ fn write_pairs(partners: &[Vec<Partner>], starts: &mut Vec<u32>, pairs: &mut Vec
     pairs.clear();
     resize_tight(pairs, total as usize, (0, 0));
     // A rebuild may have pushed its pairs into the same list (doubling it).
-    trim(pairs);
+    keep_room(pairs);
     for_each_group_mut(pairs, starts, |i, out| {
         for (slot, p) in out.iter_mut().zip(&partners[i]) {
             *slot = (i as u32, p.body);
