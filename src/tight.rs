@@ -1,9 +1,9 @@
 //! Vectors grown to their new length and a sixteenth rather than doubled, for the arrays that
 //! hold most of a run's memory: the contact store's, and the neighbour search's lists. Their
 //! lengths change a little at each neighbour search, so `Vec`'s doubling would leave up to half
-//! of each unused at the peak (issue #18's memory target). A regrowth is cheap: arrays this large
-//! are mappings of their own (`src/bin/polydem.rs` sets glibc's mmap threshold), which `realloc`
-//! moves with `mremap`, without copying.
+//! of each unused at the peak (issue #18's memory target). A regrowth is cheap: in the `polydem`
+//! program arrays this large are mappings of their own (`src/bin/polydem.rs` sets glibc's mmap
+//! threshold), which `realloc` moves with `mremap`, without copying.
 
 /// The room kept beyond the length: a `ROOM`th of it.
 pub const ROOM: usize = 16;

@@ -424,7 +424,13 @@ impl Region {
             }
             list.value.truncate(w);
             list.tag.truncate(w);
+            // A region that bodies have left (a column that fell, a hopper that emptied) gives
+            // back what they took, rather than keep its largest size for the rest of the run.
+            keep_room(&mut list.value);
+            keep_room(&mut list.tag);
         }
+        keep_room(&mut self.members);
+        keep_room(&mut self.rank);
     }
 
     /// Writes the members' new coordinates into the lists (at their old places). `gathered` is
@@ -653,5 +659,28 @@ mod tests {
         );
         assert!(region.members.capacity() <= with_room(1100));
         assert!(region.rank.capacity() <= with_room(1100));
+    }
+
+    /// A region the bodies leave (a column that fell past it, a hopper that emptied) gives back
+    /// their room when its dead entries are swept out, instead of keeping its largest size.
+    #[test]
+    fn a_region_left_by_its_bodies_gives_back_their_room() {
+        // Neighbours overlap: 999 pairs.
+        let boxes = row(1000, 0.9);
+        let mut region = Region::default();
+        region.members.extend(0..1000);
+        region.build(&boxes);
+        let leaving: Vec<(u32, u32)> = (0..990).map(|b| (0, b)).collect();
+        let mut scratch = Scratch::default();
+        region.update(&leaving, &[], &boxes, usize::MAX, &mut scratch);
+        assert_eq!(region.len(), 10);
+        // Every pair with a body that left leaves, once; the ten left keep their order.
+        assert_eq!(region.events.len(), 990);
+        assert!(region.events.iter().all(|&(_, _, starts)| !starts));
+        assert!(region.events.contains(&(989, 990, false)));
+        assert_eq!(region.members, (990..1000).collect::<Vec<u32>>());
+        assert!(widest(&region) <= with_room(20), "{}", widest(&region));
+        assert!(region.members.capacity() <= with_room(10));
+        assert!(region.rank.capacity() <= with_room(10));
     }
 }
