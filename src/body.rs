@@ -170,6 +170,11 @@ impl Bodies {
         inertia: DVec3,
         init: &BodyInit,
     ) {
+        // Bodies inserted during a run come a few at a time: grow by a sixteenth, not by
+        // doubling every array (a conveyor filled to 100,000 bodies would hold room for 131,072).
+        if self.id.len() == self.id.capacity() {
+            self.reserve((self.id.len() / crate::tight::ROOM).max(16));
+        }
         let orientation = init.orientation.normalize();
         // L = R I Rᵀ ω, from the user-given world-frame angular velocity.
         let omega_body = orientation.inverse() * init.angular_velocity;
@@ -343,6 +348,36 @@ impl Bodies {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shape::{Shape, Sphere};
+    use crate::tight::with_room;
+
+    /// Regression (issue #18, memory): bodies inserted during a run, one push at a time, doubled
+    /// every array up to twice their count.
+    #[test]
+    fn bodies_added_one_by_one_keep_a_little_room_not_twice_their_count() {
+        let init = BodyInit {
+            shape: Shape::Sphere(Sphere { radius: 1e-3 }),
+            material: 0,
+            position: DVec3::ZERO,
+            orientation: DQuat::IDENTITY,
+            velocity: DVec3::ZERO,
+            angular_velocity: DVec3::ZERO,
+        };
+        let mut bodies = Bodies::default();
+        for id in 0..3000 {
+            bodies.push(id, 0, 0, 1e-3, 1e-3, 1e-5, DVec3::splat(4e-12), &init);
+        }
+        assert_eq!(bodies.len(), 3000);
+        let most = with_room(3000) + 16;
+        let capacities = [
+            bodies.id.capacity(),
+            bodies.position.capacity(),
+            bodies.orientation.capacity(),
+            bodies.inv_inertia.capacity(),
+            bodies.torque.capacity(),
+        ];
+        assert!(capacities.iter().all(|&c| c <= most), "{capacities:?}");
+    }
 
     #[test]
     fn a_motion_state_goes_through_an_array_bit_for_bit() {

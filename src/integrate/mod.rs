@@ -68,7 +68,7 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
         gravity,
         h: 0.5 * dt,
     };
-    motion.resize(bodies.len(), BodyMotion::default());
+    crate::tight::resize_tight(motion, bodies.len(), BodyMotion::default());
     let Bodies {
         position,
         velocity,

@@ -76,7 +76,7 @@ impl BodyMotion {
 /// Packs every body's motion as it is, for an evaluation outside the step (the first one, or
 /// after bodies were added or removed): the end velocities are the current ones.
 pub fn pack(b: &Bodies, motion: &mut Vec<BodyMotion>) {
-    motion.resize(b.len(), BodyMotion::default());
+    crate::tight::resize_tight(motion, b.len(), BodyMotion::default());
     motion
         .par_iter_mut()
         .enumerate()

@@ -14,7 +14,7 @@ use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::lookahead::{largest_two_of, with_largest_two};
-use crate::tight::resize_tight;
+use crate::tight::{reserve_tight, resize_tight};
 use crate::wall::{MeshWall, Plane, WallPose};
 use rayon::prelude::*;
 
@@ -150,6 +150,7 @@ impl NeighbourSearch {
             return None;
         }
         self.boxes.clear();
+        reserve_tight(&mut self.boxes, bodies.len());
         self.boxes.par_extend(
             bodies
                 .position
