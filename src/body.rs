@@ -155,6 +155,18 @@ impl Bodies {
         self.inv_inertia.reserve_exact(additional);
         self.force.reserve_exact(additional);
         self.torque.reserve_exact(additional);
+        if !self.ghost.is_empty() {
+            self.ghost.reserve_exact(additional);
+        }
+    }
+
+    /// Room for one more body. Bodies added during a run come a few at a time (an inlet, a
+    /// share's ghosts and migrants): the arrays grow by a sixteenth, not by doubling (a conveyor
+    /// filled to 100,000 bodies would have held room for 131,072).
+    fn room_for_one(&mut self) {
+        if self.id.len() == self.id.capacity() {
+            self.reserve((self.id.len() / crate::tight::ROOM).max(16));
+        }
     }
 
     /// Appends a body; `mass` and `inertia` come from the shape's mass properties and density.
@@ -170,11 +182,7 @@ impl Bodies {
         inertia: DVec3,
         init: &BodyInit,
     ) {
-        // Bodies inserted during a run come a few at a time: grow by a sixteenth, not by
-        // doubling every array (a conveyor filled to 100,000 bodies would hold room for 131,072).
-        if self.id.len() == self.id.capacity() {
-            self.reserve((self.id.len() / crate::tight::ROOM).max(16));
-        }
+        self.room_for_one();
         let orientation = init.orientation.normalize();
         // L = R I Rᵀ ω, from the user-given world-frame angular velocity.
         let omega_body = orientation.inverse() * init.angular_velocity;
@@ -256,6 +264,7 @@ impl Bodies {
         if ghost && self.ghost.is_empty() {
             self.ghost.resize(self.len(), false);
         }
+        self.room_for_one();
         self.id.push(r.id);
         self.shape.push(r.shape);
         self.material.push(r.material);
