@@ -1,0 +1,52 @@
+//! The benchmark scenes (`bench/*.toml`) build as `polydem bench scene` builds them, and the
+//! weak-scaling bed (`bench/spheres_130k.toml`, issue #17) is the 65k bed twice: the same
+//! spheres, material, step and walls, in a box twice as long, with the same fill density, so
+//! that two ranks of it each hold what one rank of the 65k bed holds.
+
+use polydem::math::DVec3;
+use polydem::scene::Scene;
+use polydem::World;
+use std::path::Path;
+
+fn build(name: &str) -> World {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("bench")
+        .join(name);
+    let scene = Scene::load(&file).unwrap_or_else(|e| panic!("{name}: {e}"));
+    scene
+        .build()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .world
+}
+
+#[test]
+fn every_benchmark_scene_builds() {
+    for (name, bodies) in [("spheres_10k.toml", 10_000), ("cubes_1k.toml", 1_000)] {
+        assert_eq!(build(name).bodies().len(), bodies, "{name}");
+    }
+}
+
+#[test]
+fn the_weak_scaling_bed_is_the_65k_bed_twice() {
+    let (single, double) = (build("spheres_65k.toml"), build("spheres_130k.toml"));
+    assert_eq!(single.bodies().len(), 65_000);
+    assert_eq!(double.bodies().len(), 130_000);
+    assert_eq!(single.time_step(), double.time_step());
+    assert_eq!(single.planes().len(), double.planes().len());
+    let b = double.bodies();
+    assert_eq!(single.bodies().mass[0], b.mass[0]);
+    assert_eq!(single.bodies().bounding_radius[0], b.bounding_radius[0]);
+    // The box is 300 mm × 150 mm; every sphere lies in it, and each half holds half of them (the
+    // fill is uniform: a binomial count of 130,000 with p = 1/2 has a standard deviation of 181,
+    // so ±1,000 is more than five of them).
+    let inside = |x: &DVec3| {
+        let r = 0.001;
+        (r..=0.30 - r).contains(&x.x) && (r..=0.15 - r).contains(&x.y) && x.z >= r
+    };
+    assert!(b.position.iter().all(inside));
+    let first_half = b.position.iter().filter(|x| x.x < 0.15).count();
+    assert!(
+        first_half.abs_diff(65_000) < 1_000,
+        "{first_half} in the first half"
+    );
+}
