@@ -7,6 +7,7 @@ use super::scene::{
     SceneTiming,
 };
 use crate::decomposition::mpi_ranks::MpiRanks;
+use crate::decomposition::RankTimes;
 use mpi::traits::*;
 use std::path::Path;
 use std::time::Instant;
@@ -46,12 +47,25 @@ pub fn run<C: Communicator>(
     let seconds_before_window = start.elapsed().as_secs_f64();
     communicator.barrier();
     let rebuilds_before = ranks.world().pair_rebuilds();
+    let times_before = ranks.times;
+    let redraws_before = ranks.redraws;
     let window = Instant::now();
     for _ in window_start..steps {
         ranks.step().map_err(|e| e.to_string())?;
     }
     communicator.barrier();
     let seconds = window.elapsed().as_secs_f64();
+    let mine = ranks.times.since(times_before).to_array();
+    let mut all = vec![0.0; RankTimes::LEN * communicator.size() as usize];
+    communicator.all_gather_into(&mine[..], &mut all[..]);
+    for (rank, times) in all.chunks_exact(RankTimes::LEN).enumerate() {
+        let t = RankTimes::from_array(times.try_into().expect("a rank's times"));
+        progress(&format!(
+            "rank {rank} in the window: own step {:.2} s, agreeing {:.2} s, ghost exchange {:.2} \
+             s, redraws {:.2} s",
+            t.step, t.agree, t.exchange, t.redraw
+        ));
+    }
     let counts = contact_counts(ranks.world());
     let ghosts = {
         let b = ranks.world().bodies();
@@ -59,12 +73,14 @@ pub fn run<C: Communicator>(
     };
     progress(&format!(
         "step {steps}: {} redraws, {} cuts, {} bodies changed owner, {} ghosts (summed over \
-         the ranks); candidate lists made {} times in the window (each share alike)",
+         the ranks); in the window, candidate lists made {} times and shares redrawn {} times \
+         (each share alike)",
         ranks.total(ranks.redraws),
         ranks.total(ranks.rebalances),
         ranks.total(ranks.migrations),
         ranks.total(ghosts),
         ranks.world().pair_rebuilds() - rebuilds_before,
+        ranks.redraws - redraws_before,
     ));
     Ok(SceneTiming {
         name: scene_name(file),

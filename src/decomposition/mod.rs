@@ -13,6 +13,7 @@
 //!   tests) and, with the `mpi` feature, `mpi_ranks::MpiRanks` (one share per MPI rank). Both
 //!   give every body the bits a single world gives it.
 //!
+//! - [`rank_times`]: where a rank's time goes (its own step, the collectives, the redraws).
 //! - [`mpi_run`] (feature `mpi`): `polydem run` and `resume` on ranks, rank 0 leading the run
 //!   loop (`run::run_shared`) and writing outputs and checkpoints from the whole world assembled
 //!   from the shares (`World::assemble`); insertions are made in the whole, from which the
@@ -26,10 +27,12 @@ pub mod mpi_count;
 pub mod mpi_ranks;
 #[cfg(feature = "mpi")]
 pub mod mpi_run;
+pub mod rank_times;
 pub mod share;
 
 pub use bisection::{BodyCounter, Decomposition, LocalBodies, Region};
 pub use in_process::InProcessRanks;
+pub use rank_times::RankTimes;
 
 /// The number of processes an MPI launcher started this one among, read from the variables Open
 /// MPI (`OMPI_COMM_WORLD_SIZE`) and MPICH-derived launchers (`PMI_SIZE`) set; 1 when none is set.

@@ -15,10 +15,11 @@
 
 use super::mpi_count::DistributedBodies;
 use super::share::{imbalance, Delivery, Share, REBALANCE_AT};
-use super::{Decomposition, LocalBodies};
+use super::{Decomposition, LocalBodies, RankTimes};
 use crate::body::BodyMotionState;
 use crate::energy::EnergyReport;
 use crate::shape::Shape;
+use crate::step::timing::Stopwatch;
 use crate::world::{ShareOutlook, SharePart, World, WorldState};
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
@@ -49,6 +50,8 @@ pub struct MpiRanks<'c, C: Communicator> {
     pub redraws: u64,
     pub rebalances: u64,
     pub migrations: u64,
+    /// Where this rank's time went (see [`RankTimes`]).
+    pub times: RankTimes,
     /// The per-step exchange's buffers, kept from step to step.
     outgoing: Vec<f64>,
     incoming: Vec<f64>,
@@ -68,6 +71,7 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             redraws: 0,
             rebalances: 1,
             migrations: 0,
+            times: RankTimes::default(),
             outgoing: Vec::new(),
             incoming: Vec::new(),
         };
@@ -98,11 +102,18 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
 
     /// One step of the whole (every rank calls it together).
     pub fn step(&mut self) -> Result<(), MpiRunError> {
+        let mut watch = Stopwatch::start();
         let left = self.share.step();
+        watch.lap(&mut self.times.step);
         if self.any(left) {
-            return self.redraw(true);
+            watch.lap(&mut self.times.agree);
+            let redrawn = self.redraw(true);
+            watch.lap(&mut self.times.redraw);
+            return redrawn;
         }
+        watch.lap(&mut self.times.agree);
         self.exchange();
+        watch.lap(&mut self.times.exchange);
         // One gathering for two questions: how far an owned body will have moved from where the
         // shares were drawn (beyond its slack), and how far from where the neighbour searches
         // made their lists (the two largest over all the bodies, which no reduction of MPI's
@@ -116,8 +127,10 @@ impl<'c, C: Communicator> MpiRanks<'c, C> {
             .map(|o| ShareOutlook::from_array([o[0], o[1], o[2]]))
             .reduce(ShareOutlook::merge)
             .expect("a communicator has a rank");
+        watch.lap(&mut self.times.agree);
         if self.share.must_redraw(merged.excess_move) {
             self.redraw(false)?;
+            watch.lap(&mut self.times.redraw);
         } else {
             self.share.follow_search_outlook(&merged);
         }
