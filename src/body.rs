@@ -164,8 +164,10 @@ impl Bodies {
     /// share's ghosts and migrants): the arrays grow by a sixteenth, not by doubling (a conveyor
     /// filled to 100,000 bodies would have held room for 131,072).
     fn room_for_one(&mut self) {
-        if self.id.len() == self.id.capacity() {
-            self.reserve((self.id.len() / crate::tight::ROOM).max(16));
+        let len = self.id.len();
+        if len == self.id.capacity() {
+            // The room kept beyond the length (`tight::with_room`), at least sixteen bodies.
+            self.reserve((crate::tight::with_room(len) - len).max(16));
         }
     }
 
