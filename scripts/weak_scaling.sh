@@ -39,5 +39,5 @@ for round in $(seq "$rounds"); do
 a, p, r = $a, $p1 + $p2, $r
 print(f'round $round: alone {a/1e6:.2f} M, pair {$p1/1e6:.2f} + {$p2/1e6:.2f} M, ranks {r/1e6:.2f} M; '
       f'ranks/alone {r/a:.2f}, pair/alone {p/a:.2f}, ranks/pair {r/p:.3f}')"
-  grep "in the window: own step" "$logs/ranks" | sed 's/^/  /'
+  grep -e "in the window: own step" -e "in the window, candidate lists" "$logs/ranks" | sed 's/^/  /'
 done
