@@ -84,6 +84,7 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
     } = bodies;
     let (inv_mass, inv_inertia, force, torque) = (&*inv_mass, &*inv_inertia, &*force, &*torque);
     let bounding_radius = &*bounding_radius;
+    let stream_motion = position.len() >= motion::STREAM_MOTION_BODIES;
     position
         .par_chunks_mut(BODIES_PER_TASK)
         .zip(velocity.par_chunks_mut(BODIES_PER_TASK))
@@ -106,8 +107,10 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
                 force: &force[bodies.clone()],
                 torque: &torque[bodies.clone()],
                 bounding_radius: &bounding_radius[bodies],
+                stream_motion,
             };
             kick_drift_task(&mut arrays, kick, dt);
+            motion::end_streaming(stream_motion);
         });
 }
 
@@ -181,7 +184,7 @@ fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
         w[k] = l[k] * inv_i.x;
         x[k] += v[k] * dt;
         q[k] = rotation::drift_isotropic(q[k], l[k], inv_i, dt);
-        m[k] = BodyMotion {
+        let packed = BodyMotion {
             position: x[k],
             velocity: v[k],
             angular_velocity: w[k],
@@ -189,6 +192,7 @@ fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
             angular_velocity_end: (l[k] + t * h) * inv_i.x,
             radius: arrays.bounding_radius[k],
         };
+        motion::write(&mut m[k], packed, arrays.stream_motion);
         return;
     }
     let body = KickedBody {
@@ -204,7 +208,7 @@ fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
     q[k] = rotation::drift(q[k], l[k], inv_i, dt);
     // The body frame turned, so the world-frame ω of a non-spherical body changed.
     w[k] = rotation::angular_velocity(q[k], l[k], inv_i);
-    m[k] = BodyMotion::predict(
+    let packed = BodyMotion::predict(
         x[k],
         v[k],
         w[k],
@@ -213,4 +217,5 @@ fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
         h,
         arrays.bounding_radius[k],
     );
+    motion::write(&mut m[k], packed, arrays.stream_motion);
 }
