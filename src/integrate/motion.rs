@@ -120,8 +120,8 @@ pub(crate) fn end_streaming(stream: bool) {
 /// motion, the contact store's entries), so from some 30,000 bodies on it no longer fits the
 /// 32 MB of a server's last-level cache. Measured on the spheres' benchmark (one thread, steps
 /// 5,000–5,800; see docs/benchmarks.md): the opening pass a fifth shorter at 65,000 and the
-/// contact loops no slower; at 10,000 no gain, and the contact loops' reads of the motion then
-/// come from memory.
+/// contact loops no slower; at 10,000 no gain (the contact loops slower in two rounds of three,
+/// as they would be if their reads of the motion went to memory).
 pub const STREAM_MOTION_BODIES: usize = 32_768;
 
 /// Packs every body's motion as it is, for an evaluation outside the step (the first one, or
