@@ -1,7 +1,4 @@
-//! Where one rank of a decomposed run spends its time: its own step against the collective calls
-//! that hold it until the other ranks come (`mpirun -np N polydem bench scene` prints it for
-//! every rank, which tells the loss of a decomposed run apart: the machine, the wait, the
-//! redraws).
+//! Where one rank of a decomposed run spends its time ([`RankTimes`]).
 
 /// Where one rank's time goes, in seconds summed over the steps: what tells a decomposed run's
 /// losses apart (`mpirun -np N polydem bench scene` prints it for every rank). The collective
