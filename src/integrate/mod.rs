@@ -12,6 +12,7 @@
 //! (`step::accumulate`), while they are in registers.
 
 mod isotropic;
+mod last_level_cache;
 pub mod motion;
 pub mod rotation;
 
@@ -84,7 +85,7 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
     } = bodies;
     let (inv_mass, inv_inertia, force, torque) = (&*inv_mass, &*inv_inertia, &*force, &*torque);
     let bounding_radius = &*bounding_radius;
-    let stream_motion = position.len() >= motion::STREAM_MOTION_BODIES;
+    let stream_motion = motion::streams_motion(position.len());
     position
         .par_chunks_mut(BODIES_PER_TASK)
         .zip(velocity.par_chunks_mut(BODIES_PER_TASK))

@@ -1,6 +1,6 @@
 //! What the contact loops read of a body, packed once per step.
 
-use super::rotation;
+use super::{last_level_cache, rotation};
 use crate::body::Bodies;
 use crate::math::{DQuat, DVec3};
 use rayon::prelude::*;
@@ -83,7 +83,7 @@ impl BodyMotion {
 /// a fifth of its samples, `perf annotate`), and streaming stores cut the pass by a fifth. In a
 /// world whose arrays stay in the cache between the two passes, a plain store finds its line
 /// there, and a streaming one would send to memory what the contact loops read next: see
-/// [`STREAM_MOTION_BODIES`].
+/// [`streams_motion`].
 #[inline(always)]
 pub(crate) fn write(dst: &mut BodyMotion, m: BodyMotion, stream: bool) {
     #[cfg(target_arch = "x86_64")]
@@ -115,14 +115,21 @@ pub(crate) fn end_streaming(stream: bool) {
     let _ = stream;
 }
 
-/// Worlds of at least this many bodies write their packed motion by streaming stores
-/// ([`write`]). A step's working set is about a kilobyte a body (the bodies' arrays, their
-/// motion, the contact store's entries), so from some 30,000 bodies on it no longer fits the
-/// 32 MB of a server's last-level cache. Measured on the spheres' benchmark (one thread, steps
-/// 5,000–5,800; see docs/benchmarks.md): the opening pass a fifth shorter at 65,000 and the
-/// contact loops no slower; at 10,000 no gain (the contact loops slower in two rounds of three,
-/// as they would be if their reads of the motion went to memory).
-pub const STREAM_MOTION_BODIES: usize = 32_768;
+/// A step's working set in bytes per body: the bodies' arrays, their packed motion and the
+/// contact store's entries come to about a kilobyte a sphere in a settled bed (peak memory, with
+/// the program and the candidate list, is some 1.6 kB a sphere at 65,000).
+const STEP_BYTES_PER_BODY: usize = 1024;
+
+/// Whether a world of `bodies` bodies writes its packed motion by streaming stores ([`write`]):
+/// when its step's working set does not fit the last-level cache, so that the motion's lines have
+/// left the cache by the time the kick-drift writes them. Measured on the spheres' benchmark (one
+/// thread, steps 5,000–5,800; docs/benchmarks.md, "The packed motion written by streaming
+/// stores"): with a 32 MB cache (that of one AMD EPYC chiplet), the opening pass a fifth shorter
+/// at 65,000 and no gain at 10,000; with a 480 MB cache (an Intel Xeon), where the 65,000-sphere
+/// bed's step stays in the cache, streaming stores made the whole step 3 % slower.
+pub fn streams_motion(bodies: usize) -> bool {
+    bodies.saturating_mul(STEP_BYTES_PER_BODY) >= last_level_cache::bytes()
+}
 
 /// Packs every body's motion as it is, for an evaluation outside the step (the first one, or
 /// after bodies were added or removed): the end velocities are the current ones.
