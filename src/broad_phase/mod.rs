@@ -21,8 +21,27 @@ pub trait BroadPhase: Send + Sync {
     /// the smaller index first, in ascending order (so later stages are deterministic).
     fn find_pairs(&mut self, boxes: &[Aabb], pairs: &mut Vec<Pair>);
 
+    /// The bodies were renumbered: body `i` is now body `new_index[i]`, or left the world where
+    /// it is [`GONE`] (the kept ones numbered `0..kept`). Returns whether the method follows, so
+    /// that its next call repairs its state rather than starting afresh; if not, the caller
+    /// builds a new one.
+    fn renumber(&mut self, new_index: &[u32]) -> bool {
+        let _ = new_index;
+        false
+    }
+
+    /// `added` bodies were appended after the others. Returns whether the method follows (see
+    /// [`BroadPhase::renumber`]).
+    fn append(&mut self, added: usize) -> bool {
+        let _ = added;
+        false
+    }
+
     fn name(&self) -> &'static str;
 }
+
+/// In a renumbering ([`BroadPhase::renumber`]), the new index of a body that left.
+pub const GONE: u32 = u32::MAX;
 
 /// The methods a scene file can choose.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]

@@ -129,6 +129,26 @@ impl NeighbourSearch {
         self.valid = false;
     }
 
+    /// The bodies were renumbered: body `i` is now `new_index[i]`, or left where it is
+    /// [`broad_phase::GONE`]. The list is made again at the next update, by a broad phase that
+    /// follows the renumbering where it can (a share of a decomposed world renumbers its bodies
+    /// at every redraw, and a broad phase started afresh cost twice a repaired one there).
+    pub fn renumber(&mut self, new_index: &[u32]) {
+        self.valid = false;
+        if !self.broad_phase.renumber(new_index) {
+            self.broad_phase = self.method.build();
+        }
+    }
+
+    /// `added` bodies were appended after the others: the list is made again at the next update
+    /// (see [`NeighbourSearch::renumber`]).
+    pub fn append(&mut self, added: usize) {
+        self.valid = false;
+        if !self.broad_phase.append(added) {
+            self.broad_phase = self.method.build();
+        }
+    }
+
     /// Bodies were added or removed: indices changed, so the search starts afresh.
     pub fn invalidate(&mut self) {
         self.valid = false;

@@ -132,9 +132,9 @@ impl World {
         self.bodies.permute(order);
         self.contacts
             .permute(&new_index, &self.bodies.id, &self.bodies.position);
-        // The broad phase's lists name bodies by index: it starts afresh, and its first list
-        // carries the contacts' histories over. A share's drawing names bodies by index too.
-        self.search.invalidate();
+        // The broad phase's lists name bodies by index: it follows the new order, and its next
+        // list carries the contacts' histories over. A share's drawing names bodies by index too.
+        self.search.renumber(&new_index);
         self.drawing = None;
     }
 

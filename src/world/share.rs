@@ -255,7 +255,7 @@ impl World {
         }
         self.contacts.renumber(&new_index, |_| false);
         self.bodies.retain(keep);
-        self.search.invalidate();
+        self.search.renumber(&new_index);
         self.drawing = None;
     }
 
@@ -270,7 +270,7 @@ impl World {
             self.shapes.len()
         );
         self.bodies.push_record(record, true);
-        self.search.invalidate();
+        self.search.append(1);
         self.drawing = None;
     }
 

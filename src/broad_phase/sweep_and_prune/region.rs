@@ -164,7 +164,7 @@ fn overlap_on(a: &Rank, b: &Rank, axis: usize) -> bool {
     a[axis][0] < b[axis][1] && b[axis][0] < a[axis][1]
 }
 
-const DEAD: u32 = u32::MAX;
+pub(super) const DEAD: u32 = u32::MAX;
 
 /// The boxes overlapping one region and their three sorted endpoint lists.
 ///
@@ -357,6 +357,14 @@ impl Region {
             self.insert(bodies, boxes, gathered, endpoints);
         }
         Some(swaps)
+    }
+
+    /// Removes the members `gone` (global indices, each a member once) between calls, their
+    /// events (every pair they form here leaves) into [`Region::events`]: bodies that left the
+    /// world (see `SweepAndPrune::renumber`).
+    pub fn remove_now(&mut self, gone: &[u32], remap: &mut Vec<u32>) {
+        self.events.clear();
+        self.remove(gone, remap);
     }
 
     /// Removes the members `leaving` (global indices, each a member once), with the state of the
