@@ -42,7 +42,14 @@ fn bodies_of(rank: i32) -> Vec<DVec3> {
 }
 
 fn main() {
-    let universe = mpi::initialize().expect("MPI initialises");
+    // As `polydem` does, so that `MpiRanks::run_steps` steps on the world's pool (not the
+    // fallback from this thread, which `assembled_world_is_one_world` covers with `step`).
+    let (universe, threading) =
+        mpi::initialize_with_threading(mpi::Threading::Serialized).expect("MPI initialises");
+    assert!(
+        threading >= mpi::Threading::Serialized,
+        "MPI gives {threading:?}, not the Serialized level a rank steps on its pool with"
+    );
     let world = universe.world();
     let (rank, size) = (world.rank(), world.size());
     let local = bodies_of(rank);
@@ -136,9 +143,8 @@ fn decomposed_run_is_one_world(world: &impl Communicator) -> bool {
     let (mut steps, mut ok) = (0, true);
     while steps < total && ok {
         let n = 1000.min(total - steps);
-        for _ in 0..n {
-            ranks.step().expect("every contact finds its entry");
-        }
+        // On the world's thread pool, MPI calls included, as `polydem` steps a rank.
+        ranks.run_steps(n).expect("every contact finds its entry");
         steps += n;
         let mine = owned_bits(ranks.world());
         let all = gathered(world, &mine);

@@ -41,18 +41,16 @@ pub fn run<C: Communicator>(
         ranks.total(owned(&ranks)),
         start.elapsed().as_secs_f64(),
     ));
-    for _ in 0..window_start {
-        ranks.step().map_err(|e| e.to_string())?;
-    }
+    ranks.run_steps(window_start).map_err(|e| e.to_string())?;
     let seconds_before_window = start.elapsed().as_secs_f64();
     communicator.barrier();
     let rebuilds_before = ranks.world().pair_rebuilds();
     let times_before = ranks.times;
     let redraws_before = ranks.redraws;
     let window = Instant::now();
-    for _ in window_start..steps {
-        ranks.step().map_err(|e| e.to_string())?;
-    }
+    ranks
+        .run_steps(steps - window_start)
+        .map_err(|e| e.to_string())?;
     communicator.barrier();
     let seconds = window.elapsed().as_secs_f64();
     let mine = ranks.times.since(times_before).to_array();

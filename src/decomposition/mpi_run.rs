@@ -55,9 +55,7 @@ fn ranks_error(e: MpiRunError) -> RunError {
 impl<C: Communicator> SharedSteps for Leader<'_, '_, C> {
     fn steps(&mut self, n: u64) -> Result<(f64, u64), RunError> {
         order(self.communicator, STEPS, n);
-        for _ in 0..n {
-            self.ranks.step().map_err(ranks_error)?;
-        }
+        self.ranks.run_steps(n).map_err(ranks_error)?;
         let w = self.ranks.world();
         Ok((w.time(), w.steps_done()))
     }
@@ -94,11 +92,7 @@ pub fn follow<C: Communicator>(
 ) -> Result<(), MpiRunError> {
     loop {
         match order(communicator, 0, 0) {
-            [STEPS, n] => {
-                for _ in 0..n {
-                    ranks.step()?;
-                }
-            }
+            [STEPS, n] => ranks.run_steps(n)?,
             [CHECK, limit] => {
                 ranks.check(f64::from_bits(limit));
             }

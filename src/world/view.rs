@@ -127,6 +127,13 @@ impl World {
         self.pool.current_num_threads()
     }
 
+    /// The thread pool the world's parallel loops run in (a rank of a decomposed run steps on
+    /// it, MPI calls included: see `MpiRanks::run_steps`).
+    #[cfg(feature = "mpi")]
+    pub(crate) fn thread_pool(&self) -> std::sync::Arc<rayon::ThreadPool> {
+        std::sync::Arc::clone(&self.pool)
+    }
+
     /// The skin distance in use [m].
     pub fn skin(&self) -> f64 {
         self.search.skin()

@@ -3,6 +3,15 @@
 
 use super::*;
 
+/// MPI, initialised for calls from one thread at a time, not only the one that started it: a
+/// rank steps on its world's thread pool (`MpiRanks::run_steps`; with a library that cannot, it
+/// steps from this thread).
+fn initialize_mpi() -> Result<mpi::environment::Universe, String> {
+    mpi::initialize_with_threading(mpi::Threading::Serialized)
+        .map(|(universe, _)| universe)
+        .ok_or_else(|| "MPI could not be initialised".to_string())
+}
+
 /// `run` under an MPI launcher: every rank builds the scene and keeps its share; rank 0 runs the
 /// run loop, says what happens and writes every file (`decomposition::mpi_run`).
 pub(super) fn run_on_ranks(
@@ -14,7 +23,7 @@ pub(super) fn run_on_ranks(
     use mpi::traits::*;
     use polydem::decomposition::mpi_ranks::MpiRanks;
     use polydem::decomposition::mpi_run::{follow, Leader};
-    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
+    let universe = initialize_mpi()?;
     let communicator = universe.world();
     let first = communicator.rank() == 0;
     // Every rank reads the same scene and fails the same way: rank 0 says why (the others end
@@ -82,7 +91,7 @@ pub(super) fn resume_on_ranks(dir: &Path, options: ResumeOptions) -> Result<(), 
     use polydem::decomposition::mpi_ranks::MpiRanks;
     use polydem::decomposition::mpi_run::{follow, Leader};
     use polydem::run::SteppedRun;
-    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
+    let universe = initialize_mpi()?;
     let communicator = universe.world();
     let root = communicator.process_at_rank(0);
     let abort = |e: String| -> ! {
@@ -168,7 +177,7 @@ pub(super) fn bench_scene_on_ranks(
     threads: Option<usize>,
 ) -> Result<(), String> {
     use mpi::traits::*;
-    let universe = mpi::initialize().ok_or("MPI could not be initialised")?;
+    let universe = initialize_mpi()?;
     let world = universe.world();
     let first = world.rank() == 0;
     let say = |note: &str| {
