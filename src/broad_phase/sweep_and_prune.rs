@@ -85,9 +85,10 @@ use region::{Partner, Region};
 /// global sort.
 ///
 /// **Renumbering.** A caller that renumbers its bodies says so ([`BroadPhase::renumber`],
-/// [`BroadPhase::append`]): bodies that left are removed from their regions at once, the lists
-/// and the candidate set take the new indices, and appended bodies are inserted where their boxes
-/// are at the next call, like boxes that teleported. A share of a decomposed world renumbers at
+/// [`BroadPhase::append`]): where the kept bodies keep their order, bodies that left are removed
+/// from their regions at once, the lists and the candidate set take the new indices, and
+/// appended bodies are inserted where their boxes are at the next call, like boxes that
+/// teleported; a new order starts afresh (see [`SweepAndPrune::follow_renumbering`]). A share of a decomposed world renumbers at
 /// every redraw, where a list made by a repair took 24 ms against 58 ms from scratch (the
 /// 65,000-sphere bed, docs/benchmarks.md).
 ///
@@ -349,7 +350,7 @@ impl SweepAndPrune {
         }
         // Each list moves down to its body's new slot, ascending as it was, and keeps its room;
         // a gone body's list (empty now) is freed.
-        let count = new_index.iter().filter(|&&to| to != GONE).count();
+        let count = next as usize;
         for (i, &to) in new_index.iter().enumerate() {
             if to == GONE {
                 continue;
@@ -1089,8 +1090,8 @@ mod tests {
                 let (followed, in_order);
                 (boxes, followed, in_order) =
                     renumber(&mut sap, &mut rng, &boxes, drop_one_in, round % 4 == 1);
+                // A shuffle of a few boxes left may keep their order: then it is followed.
                 proptest::prop_assert_eq!(followed, in_order);
-                proptest::prop_assert_eq!(in_order, round % 4 != 1);
                 if !followed {
                     sap = SweepAndPrune::with_region_side(side);
                     check(&mut sap, &boxes);

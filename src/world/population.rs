@@ -132,9 +132,10 @@ impl World {
         self.bodies.permute(order);
         self.contacts
             .permute(&new_index, &self.bodies.id, &self.bodies.position);
-        // The broad phase's lists name bodies by index: it follows the new order, and its next
+        // The broad phase's lists name bodies by index: it starts afresh (following a new order
+        // fragments its lists' memory, see `SweepAndPrune::follow_renumbering`), and its first
         // list carries the contacts' histories over. A share's drawing names bodies by index too.
-        self.search.renumber(&new_index);
+        self.search.invalidate();
         self.drawing = None;
     }
 
