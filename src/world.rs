@@ -366,6 +366,7 @@ impl World {
             let rolling = self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
             let layout = StoreLayout::of(&self.shapes, !self.mesh_walls.is_empty(), rolling);
             self.dissipated += self.contacts.set_candidates(list, &self.bodies, layout);
+            self.search.release_list();
         }
     }
 

@@ -135,8 +135,9 @@ pub struct ContactStore {
     chunks: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
-    /// Working memory of [`ContactStore::set_candidates`]: each candidate's first entry (when
-    /// some have several), where each old entry goes, and where the kept ones go, in order.
+    /// Working memory of [`ContactStore::set_candidates`], empty between merges: each
+    /// candidate's first entry (when some have several), where each old entry goes, and where
+    /// the kept ones go, in order.
     #[serde(skip)]
     first_entry: Vec<u32>,
     #[serde(skip)]
@@ -295,6 +296,11 @@ impl ContactStore {
                 s.spawn(|_| relocate::relocate(volume, fates, targets, count, None));
             }
         });
+        // Made anew at the next merge: not held until then, when the neighbour search's lists
+        // are (see `step::candidates`).
+        self.fates = Vec::new();
+        self.targets = Vec::new();
+        self.first_entry = Vec::new();
         self.index(ids);
         lost
     }

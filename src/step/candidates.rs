@@ -32,12 +32,15 @@ pub struct NeighbourSearch {
     /// Whether the bodies' moves since the list was made were found too small for a new list
     /// elsewhere, for the next update only (see [`NeighbourSearch::moves_checked_elsewhere`]).
     moves_checked: bool,
+    /// The enlarged boxes and the broad phase's pairs: working memory of [`Self::update`], let
+    /// go of once used.
     boxes: Vec<Aabb>,
     pairs: Vec<Pair>,
     /// Per block of `pairs`, how many were kept (working memory of the search).
     kept: Vec<usize>,
     wall_candidates: Vec<(u32, Partner)>,
-    /// The candidates, in the store's order ([`Candidate::order`]).
+    /// The candidates, in the store's order ([`Candidate::order`]), from [`Self::update`] until
+    /// [`Self::release_list`].
     list: Vec<Candidate>,
     /// Working memory of the list's counting sort: each body's first candidate, and the next
     /// free place of each body's run.
@@ -111,6 +114,12 @@ impl NeighbourSearch {
         self.valid = false;
     }
 
+    /// Lets go of the list [`NeighbourSearch::update`] returned, once the contact store holds it
+    /// (it is made anew at the next search; see `update` on why not to hold it).
+    pub fn release_list(&mut self) {
+        self.list = Vec::new();
+    }
+
     /// Where the bodies were when the list was made (`None` when it must be made anew anyway).
     pub fn reference_positions(&self) -> Option<&[DVec3]> {
         self.valid.then_some(&self.reference_position[..])
@@ -179,9 +188,15 @@ impl NeighbourSearch {
                 .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
+        // The boxes and the pairs are made anew at the next search: let go of them as soon as
+        // they are used, so that they are not held through the store's merge, where a run's
+        // memory peaks (issue #18's memory target; the arrays are mappings of their own in the
+        // `polydem` program, see `tight`, so a free gives them back).
+        self.boxes = Vec::new();
         self.keep_near_pairs(bodies);
         self.find_wall_candidates(bodies, planes, walls);
         self.merge(bodies, shapes);
+        self.pairs = Vec::new();
         self.reference_position.clone_from(&bodies.position);
         self.reference_pose.clear();
         self.reference_pose.extend(walls.iter().map(MeshWall::pose));
