@@ -779,6 +779,23 @@ mod tests {
         assert_eq!(lost, 0.5 * 4.0);
     }
 
+    /// Issue #18's memory target: the merge's working memory is let go of after it (it would
+    /// otherwise be held through the next neighbour search, where the run's memory peaks).
+    #[test]
+    fn the_store_holds_no_merge_memory_between_lists() {
+        let mut store = ContactStore::default();
+        let pairs = [
+            candidate(0, Partner::Body(1)),
+            candidate(1, Partner::Body(2)),
+        ];
+        for _ in 0..2 {
+            store.set_candidates(&pairs, &numbered(3), kept(false, false));
+            let working = [&store.fates, &store.targets, &store.first_entry];
+            assert!(working.iter().all(|v| v.capacity() == 0));
+            assert_eq!(store.keys().len(), 2);
+        }
+    }
+
     /// The rolling and twisting springs, kept only where asked for, follow their contact like the
     /// tangential one and count in the energy a dropped contact gives back.
     #[test]

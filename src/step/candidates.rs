@@ -540,6 +540,31 @@ mod tests {
         );
     }
 
+    /// Issue #18's memory target: the boxes and the pairs are let go of once the list is made,
+    /// and the list once the store holds it, so that none of them is held through the store's
+    /// merge or the next search (where the run's memory peaks).
+    #[test]
+    fn the_search_holds_no_working_memory_between_lists() {
+        let mut rng = SplitMix64::new(3);
+        let (bodies, shapes) = scattered(200, 10.0, &mut rng);
+        let planes = [floor()];
+        let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
+        let listed = search
+            .update(&bodies, &shapes, &planes, &[])
+            .map(<[Candidate]>::len);
+        assert!(listed.is_some_and(|n| n > 0), "no candidates: no test");
+        assert_eq!((search.boxes.capacity(), search.pairs.capacity()), (0, 0));
+        assert!(search.list.capacity() > 0);
+        search.release_list();
+        assert_eq!(search.list.capacity(), 0);
+        // The next list is made as before.
+        search.expire();
+        let again = search
+            .update(&bodies, &shapes, &planes, &[])
+            .map(<[Candidate]>::len);
+        assert_eq!(again, listed);
+    }
+
     /// In a share of a decomposed world, the list is that of the same bodies with no ghosts,
     /// less the pairs of two ghosts and the ghosts' planes (whose loads a ghost's owner's state
     /// overwrites).
