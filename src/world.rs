@@ -365,8 +365,8 @@ impl World {
         {
             let rolling = self.pair_laws.iter().any(|l| l.rolling_friction > 0.0);
             let layout = StoreLayout::of(&self.shapes, !self.mesh_walls.is_empty(), rolling);
-            self.dissipated += self.contacts.set_candidates(list, &self.bodies, layout);
-            self.search.release_list();
+            // The list is dropped here, once the store holds it.
+            self.dissipated += self.contacts.set_candidates(&list, &self.bodies, layout);
         }
     }
 

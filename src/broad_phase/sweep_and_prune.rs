@@ -88,9 +88,9 @@ use region::{Partner, Region};
 /// [`BroadPhase::append`]): where the kept bodies keep their order, bodies that left are removed
 /// from their regions at once, the lists and the candidate set take the new indices, and
 /// appended bodies are inserted where their boxes are at the next call, like boxes that
-/// teleported; a new order starts afresh (see [`SweepAndPrune::follow_renumbering`]). A share of a decomposed world renumbers at
-/// every redraw, where a list made by a repair took 24 ms against 58 ms from scratch (the
-/// 65,000-sphere bed, docs/benchmarks.md).
+/// teleported; a new order starts afresh (see [`SweepAndPrune::follow_renumbering`]). A share
+/// of a decomposed world renumbers at every redraw, where a list made by a repair took 24 ms
+/// against 58 ms from scratch (the 65,000-sphere bed, docs/benchmarks.md).
 ///
 /// **Rebuilds.** The first call, a change in the number of bodies not announced that way, a
 /// region grown far beyond the size chosen (bodies gathering; the grid is then chosen anew) or a

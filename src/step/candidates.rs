@@ -14,7 +14,7 @@ use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::lookahead::{largest_two_of, with_largest_two};
-use crate::tight::{reserve_tight, resize_tight};
+use crate::tight::reserve_tight;
 use crate::wall::{MeshWall, Plane, WallPose};
 use rayon::prelude::*;
 
@@ -39,9 +39,6 @@ pub struct NeighbourSearch {
     /// Per block of `pairs`, how many were kept (working memory of the search).
     kept: Vec<usize>,
     wall_candidates: Vec<(u32, Partner)>,
-    /// The candidates, in the store's order ([`Candidate::order`]), from [`Self::update`] until
-    /// [`Self::release_list`].
-    list: Vec<Candidate>,
     /// Working memory of the list's counting sort: each body's first candidate, and the next
     /// free place of each body's run.
     first: Vec<u32>,
@@ -74,7 +71,6 @@ impl NeighbourSearch {
             pairs: Vec::new(),
             kept: Vec::new(),
             wall_candidates: Vec::new(),
-            list: Vec::new(),
             first: Vec::new(),
             next: Vec::new(),
             rebuilds: 0,
@@ -112,12 +108,6 @@ impl NeighbourSearch {
     pub fn set_skin(&mut self, skin: f64) {
         self.skin = skin;
         self.valid = false;
-    }
-
-    /// Lets go of the list [`NeighbourSearch::update`] returned, once the contact store holds it
-    /// (it is made anew at the next search; see `update` on why not to hold it).
-    pub fn release_list(&mut self) {
-        self.list = Vec::new();
     }
 
     /// Where the bodies were when the list was made (`None` when it must be made anew anyway).
@@ -164,15 +154,17 @@ impl NeighbourSearch {
         self.broad_phase = self.method.build();
     }
 
-    /// Makes the list again if it may have gone stale; returns the new list, or `None` when the
-    /// old one still holds.
+    /// Makes the list again if it may have gone stale; returns the new list, in the store's order
+    /// ([`Candidate::order`]), or `None` when the old one still holds. The list is the caller's:
+    /// the search keeps no copy, so that none is held once the store holds it (issue #18's
+    /// memory target, see below).
     pub fn update(
         &mut self,
         bodies: &Bodies,
         shapes: &[Shape],
         planes: &[Plane],
         walls: &[MeshWall],
-    ) -> Option<&[Candidate]> {
+    ) -> Option<Vec<Candidate>> {
         let half_skin = 0.5 * self.skin;
         let moves_checked = std::mem::take(&mut self.moves_checked);
         if self.valid && !self.moved_too_far(bodies, walls, moves_checked) {
@@ -195,14 +187,14 @@ impl NeighbourSearch {
         self.boxes = Vec::new();
         self.keep_near_pairs(bodies);
         self.find_wall_candidates(bodies, planes, walls);
-        self.merge(bodies, shapes);
+        let list = self.merge(bodies, shapes);
         self.pairs = Vec::new();
         self.reference_position.clone_from(&bodies.position);
         self.reference_pose.clear();
         self.reference_pose.extend(walls.iter().map(MeshWall::pose));
         self.valid = true;
         self.rebuilds += 1;
-        Some(&self.list)
+        Some(list)
     }
 
     /// Whether the list may have gone stale: two bodies that were more than a skin apart (their
@@ -317,7 +309,7 @@ impl NeighbourSearch {
     /// One list in the store's order ([`Candidate::order`]) from the body pairs kept (each seen
     /// from its `a`) and the wall candidates: placed by `a` (a counting sort), then each body's
     /// short run sorted by its partners' rank (the runs in parallel).
-    fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) {
+    fn merge(&mut self, bodies: &Bodies, shapes: &[Shape]) -> Vec<Candidate> {
         let ids = &bodies.id;
         let traits = |i: u32| {
             let shape = &shapes[bodies.shape[i as usize] as usize];
@@ -361,20 +353,20 @@ impl NeighbourSearch {
             partner: Partner::Body(0),
             kind: PairKind::Single,
         };
-        self.list.clear();
-        resize_tight(&mut self.list, items, unset);
+        let mut list = vec![unset; items];
         let next = &mut self.next;
         next.clear();
         next.extend_from_slice(&first[..bodies.len()]);
         for k in 0..items {
             let slot = &mut next[seen_from_a(k).0 as usize];
-            self.list[*slot as usize] = candidate(k);
+            list[*slot as usize] = candidate(k);
             *slot += 1;
         }
         // Each body's run (the bodies' runs in parallel).
-        for_each_group_mut(&mut self.list, &self.first, |_, run| {
+        for_each_group_mut(&mut list, &self.first, |_, run| {
             sort_short_by_key(run, |c| c.partner.rank(ids))
         });
+        list
     }
 }
 
@@ -541,8 +533,7 @@ mod tests {
     }
 
     /// Issue #18's memory target: the boxes and the pairs are let go of once the list is made,
-    /// and the list once the store holds it, so that none of them is held through the store's
-    /// merge or the next search (where the run's memory peaks).
+    /// so that they are not held through the store's merge (where the run's memory peaks).
     #[test]
     fn the_search_holds_no_working_memory_between_lists() {
         let mut rng = SplitMix64::new(3);
@@ -551,17 +542,14 @@ mod tests {
         let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
         let listed = search
             .update(&bodies, &shapes, &planes, &[])
-            .map(<[Candidate]>::len);
+            .map(|list| list.len());
         assert!(listed.is_some_and(|n| n > 0), "no candidates: no test");
         assert_eq!((search.boxes.capacity(), search.pairs.capacity()), (0, 0));
-        assert!(search.list.capacity() > 0);
-        search.release_list();
-        assert_eq!(search.list.capacity(), 0);
         // The next list is made as before.
         search.expire();
         let again = search
             .update(&bodies, &shapes, &planes, &[])
-            .map(<[Candidate]>::len);
+            .map(|list| list.len());
         assert_eq!(again, listed);
     }
 
