@@ -351,6 +351,7 @@ impl World {
             bodies: &self.bodies,
             shapes: &self.shapes,
             planes: &self.planes,
+            laws: &self.pair_laws,
         };
         self.wall_loads.book(&self.contacts, at, walls, dt);
     }

@@ -1,8 +1,10 @@
 //! The contact store keeps no geometry for sphere pairs, and none at all in a world of spheres and
-//! planes (`contact::StoreLayout`): what `World::contacts()` gives is found again from the bodies.
-//! It must be what the narrow phase finds, to the bit, and a world that keeps every other
-//! contact's geometry (here because it has a mesh wall far from the bodies) must run the same
-//! bits and report the same contacts.
+//! planes (`contact::StoreLayout`), nor law reports there: what `World::contacts()` gives is found
+//! again from the bodies, the loads and the histories. The geometry must be what the narrow phase
+//! finds, to the bit, and a world that keeps every other contact's geometry and every report
+//! (here because it has a mesh wall far from the bodies) must run the same bits and report the
+//! same contacts: the same bits but for the normal force, which is found again as F·n and so
+//! agrees to rounding.
 
 mod common;
 
@@ -65,12 +67,21 @@ fn pour(far_wall: bool) -> World {
     w
 }
 
-/// Each contact as text: key, geometry, load and report (Debug prints the bits).
+/// Each contact as text: key, geometry, load, history and elastic energy (Debug prints the bits).
 fn described(w: &World) -> Vec<String> {
     w.contacts()
         .iter()
-        .map(|c: ContactRef| format!("{:?} {:?} {:?} {:?}", c.key, c.geometry, c.load, c.report))
+        .map(|c: ContactRef| {
+            let (key, g, load, history) = (c.key, c.geometry, c.load, c.history);
+            let energy = c.report.elastic_energy;
+            format!("{key:?} {g:?} {load:?} {history:?} {energy:?}")
+        })
         .collect()
+}
+
+/// Each contact's normal force.
+fn normal_forces(w: &World) -> Vec<f64> {
+    w.contacts().iter().map(|c| c.report.normal_force).collect()
 }
 
 #[test]
@@ -123,4 +134,23 @@ fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
     assert_eq!(state(&lean), state(&kept));
     assert_eq!(described(&lean), described(&kept));
     assert!(described(&lean).len() > 150);
+    // The lean world finds F_n again as F·n, F = n F_n + F_t: |n|² is 1 within two units in the
+    // last place and F_t·n is |F_t| ≤ μ F_n (μ = 0.5 here) times a few, so 1e-14 of F_n holds
+    // with room. A contact whose force was cut off at zero reads exactly zero.
+    let (lean_forces, kept_forces) = (normal_forces(&lean), normal_forces(&kept));
+    assert_eq!(lean_forces.len(), kept_forces.len());
+    let mut differ = 0;
+    for (k, (&found, &kept)) in lean_forces.iter().zip(&kept_forces).enumerate() {
+        assert!(
+            (found - kept).abs() <= 1e-14 * kept,
+            "contact {k}: normal force {found:e} found again, {kept:e} kept"
+        );
+        assert_eq!(found == 0.0, kept == 0.0, "contact {k}");
+        differ += (found != kept) as usize;
+    }
+    assert!(lean_forces.iter().filter(|&&f| f > 0.0).count() > 150);
+    println!(
+        "{differ} of {} normal forces differ in their last bits",
+        lean_forces.len()
+    );
 }

@@ -71,7 +71,10 @@ impl PartnerLoad {
     }
 }
 
-/// What else the law reports of a contact this step.
+/// What else the law reports of a contact this step, kept by the store for the outputs and the
+/// energy ledger. The energy a contact dissipated over the step is not kept: the contact loop
+/// adds it up from its scratch while the run is in the cache (`step::forces::evaluate`), so that
+/// no pass reads 8 bytes of every entry to book it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C)]
 pub struct LawReport {
@@ -79,8 +82,6 @@ pub struct LawReport {
     pub normal_force: f64,
     /// Elastic energy the contact holds [J].
     pub elastic_energy: f64,
-    /// Energy dissipated over the step [J].
-    pub dissipated: f64,
 }
 
 impl LawReport {
@@ -89,7 +90,6 @@ impl LawReport {
         LawReport {
             normal_force: r.normal_force,
             elastic_energy: r.elastic_energy,
-            dissipated: r.dissipated,
         }
     }
 }
@@ -117,13 +117,12 @@ impl Load {
 }
 
 // The layouts the four-wide kernels write (`as_rows_mut`, `LawReport::as_array_mut`): six and
-// three `f64` in the order of the fields, no padding.
+// two `f64` in the order of the fields, no padding.
 const _: () = {
     use std::mem::{offset_of, size_of};
     assert!(size_of::<PartnerLoad>() == 48 && offset_of!(PartnerLoad, torque_b) == 24);
     assert!(size_of::<OwnLoad>() == 48 && offset_of!(OwnLoad, torque_a) == 24);
-    assert!(size_of::<LawReport>() == 24 && offset_of!(LawReport, elastic_energy) == 8);
-    assert!(offset_of!(LawReport, dissipated) == 16);
+    assert!(size_of::<LawReport>() == 16 && offset_of!(LawReport, elastic_energy) == 8);
 };
 
 /// The six numbers of a force and a moment, `repr(C)` with no padding (asserted above), as rows
@@ -162,10 +161,10 @@ impl OwnLoad {
 }
 
 impl LawReport {
-    /// The report's three numbers in the order of the fields.
+    /// The report's two numbers in the order of the fields.
     #[inline(always)]
-    pub(crate) fn as_array_mut(&mut self) -> &mut [f64; 3] {
-        // SAFETY: `LawReport` is `repr(C)`, three `f64` with no padding (asserted above).
-        unsafe { &mut *(self as *mut LawReport).cast::<[f64; 3]>() }
+    pub(crate) fn as_array_mut(&mut self) -> &mut [f64; 2] {
+        // SAFETY: `LawReport` is `repr(C)`, two `f64` with no padding (asserted above).
+        unsafe { &mut *(self as *mut LawReport).cast::<[f64; 2]>() }
     }
 }

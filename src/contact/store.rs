@@ -18,12 +18,14 @@ use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
 use crate::groups::{for_each_group_mut, sort_short_by_key};
+use crate::material::PairTable;
 use crate::math::{permute_in_place, DVec3};
-use crate::narrow_phase::{self, ContactPoint, Geometry};
+use crate::narrow_phase::{ContactPoint, Geometry};
 use crate::shape::Shape;
 use crate::tight::resize_tight;
 use crate::wall::Plane;
 
+mod found_again;
 mod pass;
 mod relocate;
 mod transfer;
@@ -68,13 +70,15 @@ impl Candidate {
     }
 }
 
-/// Where the bodies and planes are: what the store finds again the geometry it does not keep from
-/// ([`StoreLayout::geometry`]).
+/// Where the bodies and planes are, and the laws between them: what the store finds again the
+/// geometry and the law reports it does not keep from ([`StoreLayout::geometry`],
+/// [`StoreLayout::reports`]).
 #[derive(Clone, Copy)]
 pub struct Placement<'a> {
     pub bodies: &'a Bodies,
     pub shapes: &'a [Shape],
     pub planes: &'a [Plane],
+    pub laws: &'a PairTable,
 }
 
 /// One contact as outside code sees it.
@@ -86,7 +90,8 @@ pub struct ContactRef<'a> {
     /// The rolling and twisting springs, in worlds that keep them (see [`SpinHistory`]).
     pub spin: Option<&'a SpinHistory>,
     pub load: &'a PartnerLoad,
-    pub report: &'a LawReport,
+    /// Normal force and elastic energy: kept, or found again (see [`StoreLayout::reports`]).
+    pub report: LawReport,
 }
 
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -117,6 +122,7 @@ pub struct ContactStore {
     /// Per entry: what the contact law gave this step (zero when not touching), the partner's
     /// side of the load apart from the rest (body `a`'s side went straight into its sum).
     load: Vec<PartnerLoad>,
+    /// Per entry, in a world that keeps them (see [`StoreLayout::reports`]), else empty.
     report: Vec<LawReport>,
     /// Per entry, only in a world with polyhedra (else empty): the overlap volume of polyhedral
     /// contacts under the volume law.
@@ -160,6 +166,12 @@ pub struct StoreLayout {
     pub volumes: bool,
     /// Rolling and twisting springs (a world with rolling friction or polyhedra).
     pub spins: bool,
+    /// The law's report (normal force, elastic energy) of every entry: in a world with
+    /// polyhedra, mesh walls or rolling friction. A world of spheres and planes under point laws
+    /// keeps none (16 bytes an entry, whose writing was 4–5 % of the settled 65,000-sphere
+    /// step): its reports are found again when read, from the geometry, the load and the history
+    /// (`ContactStore::report`).
+    pub reports: bool,
 }
 
 impl StoreLayout {
@@ -171,6 +183,7 @@ impl StoreLayout {
             geometry: polyhedra || mesh_walls,
             volumes: polyhedra,
             spins: polyhedra || rolling_friction,
+            reports: polyhedra || mesh_walls || rolling_friction,
         }
     }
 }
@@ -231,7 +244,12 @@ impl ContactStore {
         // What the last evaluation gave goes along with its entry (read between steps: the
         // ledger, the outputs), so the store tells the same story after a new list as before.
         self.load.resize(old, PartnerLoad::default());
-        self.report.resize(old, LawReport::default());
+        if layout.reports {
+            self.report.resize(old, LawReport::default());
+        } else if !self.report.is_empty() {
+            // Kept by a store of an older version, read from a checkpoint.
+            self.report = Vec::new();
+        }
         if layout.volumes {
             self.volume.resize(old, None);
         } else {
@@ -265,7 +283,9 @@ impl ContactStore {
             s.spawn(|_| relocate::relocate(load, fates, targets, count, PartnerLoad::default()));
             s.spawn(|_| relocate::relocate(history, fates, targets, count, History::default()));
             s.spawn(|_| {
-                relocate::relocate(report, fates, targets, count, LawReport::default());
+                if layout.reports {
+                    relocate::relocate(report, fates, targets, count, LawReport::default());
+                }
                 relocate::relocate(touching, fates, targets, count, false);
                 let unset = ContactKey {
                     a: 0,
@@ -347,11 +367,10 @@ impl ContactStore {
     }
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed
-    /// body) and drops those of removed bodies; the order, and so the sorting, is kept. Returns the
-    /// elastic energy the dropped contacts held whose body `a` is `counted` (by its old index). The per-body index lists are stale until the next
-    /// [`ContactStore::set_candidates`].
-    pub fn renumber(&mut self, new_index: &[u32], counted: impl Fn(usize) -> bool) -> f64 {
-        let mut lost = 0.0;
+    /// body) and drops those of removed bodies; the order, and so the sorting, is kept (the
+    /// energy the dropped contacts held: [`ContactStore::dropped_energy`], before). The per-body
+    /// index lists are stale until the next [`ContactStore::set_candidates`].
+    pub fn renumber(&mut self, new_index: &[u32]) {
         let mut kept = 0;
         let e = &mut self.entries;
         for k in 0..e.key.len() {
@@ -362,9 +381,6 @@ impl ContactStore {
                 wall => wall,
             };
             if a == u32::MAX || partner == Partner::Body(u32::MAX) {
-                if e.touching[k] && counted(key.a as usize) {
-                    lost += self.report[k].elastic_energy;
-                }
                 continue;
             }
             e.key[kept] = ContactKey { a, partner, ..key };
@@ -378,7 +394,9 @@ impl ContactStore {
                 e.spin[kept] = e.spin[k];
             }
             self.load[kept] = self.load[k];
-            self.report[kept] = self.report[k];
+            if !self.report.is_empty() {
+                self.report[kept] = self.report[k];
+            }
             if !self.volume.is_empty() {
                 self.volume[kept] = self.volume[k];
             }
@@ -401,7 +419,6 @@ impl ContactStore {
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
-        lost
     }
 
     /// After the bodies were put in a new order (`new_index[old] = new`, see
@@ -471,7 +488,9 @@ impl ContactStore {
             permute_in_place(&mut e.spin, &from, done);
         }
         permute_in_place(&mut self.load, &from, done);
-        permute_in_place(&mut self.report, &from, done);
+        if !self.report.is_empty() {
+            permute_in_place(&mut self.report, &from, done);
+        }
         if !self.volume.is_empty() {
             permute_in_place(&mut self.volume, &from, done);
         }
@@ -515,10 +534,6 @@ impl ContactStore {
 
     pub fn loads(&self) -> &[PartnerLoad] {
         &self.load
-    }
-
-    pub fn reports(&self) -> &[LawReport] {
-        &self.report
     }
 
     /// First entries of the pairs with [`MAX_REGIONS`] entries.
@@ -585,60 +600,23 @@ impl ContactStore {
         lost
     }
 
-    /// The contact point of touching entry `k`: the one kept, or for a sphere pair (and in a
-    /// world that keeps no geometry, a sphere on a plane) found again from the bodies `at` by the
-    /// narrow phase's own operations, so that between steps it has the bits the contact law used.
-    pub fn contact_point(&self, k: usize, at: Placement) -> ContactPoint {
-        let key = self.entries.key[k];
-        if let Some(g) = self.entries.geometry.get(k) {
-            if self.entries.kind[k] != PairKind::Spheres {
-                return *g;
-            }
-        }
-        let (a, b) = (key.a as usize, at.bodies);
-        match key.partner {
-            Partner::Body(j) => {
-                let j = j as usize;
-                let radius = &b.bounding_radius;
-                narrow_phase::overlapping_spheres(
-                    b.position[a],
-                    radius[a],
-                    b.position[j],
-                    radius[j],
-                )
-            }
-            Partner::Plane(p) => {
-                let plane = &at.planes[p as usize];
-                let radius = at.shapes[b.shape[a] as usize].bounding_radius();
-                narrow_phase::touching_sphere_plane(
-                    b.position[a],
-                    radius,
-                    plane.point,
-                    plane.normal,
-                )
-            }
-            Partner::Mesh(_) => unreachable!("a world with mesh walls keeps their geometry"),
-        }
-    }
-
     /// The contacts that touch, in store order (see [`Contacts`](super::Contacts)).
     pub(crate) fn touching_contacts<'a>(
         &'a self,
         at: Placement<'a>,
     ) -> impl Iterator<Item = ContactRef<'a>> + 'a {
         let e = &self.entries;
-        (0..e.key.len())
-            .filter(|&k| e.touching[k])
-            .map(move |k| ContactRef {
+        (0..e.key.len()).filter(|&k| e.touching[k]).map(move |k| {
+            let point = self.contact_point(k, at);
+            ContactRef {
                 key: e.key[k],
-                geometry: self
-                    .contact_point(k, at)
-                    .with_volume(self.volume.get(k).copied().flatten()),
+                geometry: point.with_volume(self.volume.get(k).copied().flatten()),
                 history: &e.history[k],
                 spin: e.spin.get(k),
                 load: &self.load[k],
-                report: &self.report[k],
-            })
+                report: self.report(k, &point, at),
+            }
+        })
     }
 
     /// Number of contacts that touch.
@@ -671,7 +649,11 @@ pub(crate) struct EntryState<'a> {
     /// Body `a`'s side of each touching entry's load, in the contact loop's scratch (what it
     /// holds for an entry that does not touch is not read).
     pub own: &'a mut [OwnLoad],
+    /// Empty in a world that keeps no reports (see [`StoreLayout::reports`]).
     pub report: &'a mut [LawReport],
+    /// The energy each entry dissipated over the step, in the contact loop's scratch: zero
+    /// before the laws run, and for an entry they leave as it is.
+    pub dissipated: &'a mut [f64],
 }
 
 impl EntryState<'_> {
@@ -705,25 +687,38 @@ mod tests {
         }
     }
 
-    /// A layout that keeps every entry's geometry (these tests' pairs are not spheres).
+    /// A layout that keeps every entry's geometry and report (these tests' pairs are not
+    /// spheres).
     fn kept(volumes: bool, spins: bool) -> StoreLayout {
         StoreLayout {
             geometry: true,
             volumes,
             spins,
+            reports: true,
         }
     }
 
-    /// The touching contacts of a store whose entries all keep their geometry.
-    fn touching(store: &ContactStore) -> Vec<ContactRef<'_>> {
-        static BODIES: std::sync::OnceLock<Bodies> = std::sync::OnceLock::new();
-        let bodies = BODIES.get_or_init(Bodies::default);
-        let at = Placement {
+    /// Where bodies `bodies` are, with no walls, for a store whose entries all keep their
+    /// geometry and reports (nothing else is read).
+    fn placement(bodies: &Bodies) -> Placement<'_> {
+        static LAWS: std::sync::OnceLock<PairTable> = std::sync::OnceLock::new();
+        let laws = LAWS.get_or_init(|| {
+            let linear = crate::contact_law::NormalLaw::Linear { stiffness: 1.0 };
+            PairTable::new(&[], linear, 1.0, &[])
+        });
+        Placement {
             bodies,
             shapes: &[],
             planes: &[],
-        };
-        store.touching_contacts(at).collect()
+            laws,
+        }
+    }
+
+    /// The touching contacts of a store whose entries all keep their geometry and reports.
+    fn touching(store: &ContactStore) -> Vec<ContactRef<'_>> {
+        static BODIES: std::sync::OnceLock<Bodies> = std::sync::OnceLock::new();
+        let bodies = BODIES.get_or_init(Bodies::default);
+        store.touching_contacts(placement(bodies)).collect()
     }
 
     fn candidate(a: u32, partner: Partner) -> Candidate {
@@ -994,11 +989,14 @@ mod tests {
             candidate(0, Partner::Body(2)),
             candidate(2, Partner::Plane(0)),
         ];
-        store.set_candidates(&list, &numbered(3), kept(true, true));
+        let bodies = numbered(3);
+        store.set_candidates(&list, &bodies, kept(true, true));
         let e = touch(&mut store, 0, Partner::Body(1));
         store.report[e].elastic_energy = 2.0;
-        let lost = store.renumber(&[0, u32::MAX, 1], |_| true);
+        let new_index = [0, u32::MAX, 1];
+        let lost = store.dropped_energy(&new_index, |_| true, placement(&bodies));
         assert_eq!(lost, 2.0);
+        store.renumber(&new_index);
         let keys: Vec<_> = store.keys().iter().map(|k| (k.a, k.partner)).collect();
         assert_eq!(keys, vec![(0, Partner::Body(1)), (1, Partner::Plane(0))]);
     }

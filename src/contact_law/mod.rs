@@ -98,6 +98,18 @@ pub struct Kinematics {
     pub dashpot_limit: DashpotLimit,
 }
 
+/// R* = r_a r_b/(r_a + r_b) and m* = m_a m_b/(m_a + m_b) of a sphere pair, with one division
+/// for both (the divider is the contact loop's narrowest unit).
+#[inline(always)]
+pub fn effective_radius_and_mass(radius: (f64, f64), mass: (f64, f64)) -> (f64, f64) {
+    let (radius_sum, mass_sum) = (radius.0 + radius.1, mass.0 + mass.1);
+    let inverse = 1.0 / (radius_sum * mass_sum);
+    (
+        radius.0 * radius.1 * mass_sum * inverse,
+        mass.0 * mass.1 * radius_sum * inverse,
+    )
+}
+
 /// The strongest dashpots the explicit step allows at a contact, along the normal and (at most)
 /// along the tangent [N s/m]: [`DASHPOT_BOUND`] m/Δt, with m the mass a push at the contact point
 /// moves, 1/m = Σ 1/m_i + (r_i × d)·I_i⁻¹(r_i × d) over the bodies (r_i the arm, d the

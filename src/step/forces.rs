@@ -54,7 +54,8 @@ impl EntryState<'_> {
             spin: self.spin.get_mut(k),
             load: &mut self.load[k],
             own: &mut self.own[k],
-            report: &mut self.report[k],
+            report: self.report.get_mut(k),
+            dissipated: &mut self.dissipated[k],
         }
     }
 }
@@ -121,7 +122,7 @@ impl LawInputs<'_> {
                 // polyhedron would soften every contact (by 1.4 for a cube).
                 let (radius, mass) = if kind == PairKind::Spheres {
                     let (ra, rb) = (self.motion[a].radius, self.motion[j].radius);
-                    spheres::effective_radius_and_mass((ra, rb), (b.mass[a], b.mass[j]))
+                    contact_law::effective_radius_and_mass((ra, rb), (b.mass[a], b.mass[j]))
                 } else {
                     let radius = narrow_phase::effective_radius(
                         &shapes[b.shape[a] as usize],
@@ -195,7 +196,8 @@ impl LawInputs<'_> {
 /// The laws write each load's partner side into the store, for [`accumulate`], and body `a`'s
 /// side into the thread's scratch, which is added into `own` (the chunk's bodies' sums) after
 /// each run, in store order, while still in the cache (the order `accumulate` once added them
-/// in, so the same bits).
+/// in, so the same bits). The energy each entry dissipated goes to the scratch too, and is added
+/// up after each run in store order (the order the store's reports were once added up in).
 ///
 /// Relies on what the store keeps true between steps: an entry that does not touch holds no
 /// history, a zero load and a zero report. A sphere pair that was apart and stays apart is then
@@ -210,15 +212,21 @@ pub(crate) fn evaluate(
     own.force.fill(DVec3::ZERO);
     own.torque.fill(DVec3::ZERO);
     let mut evaluate_runs = |scratch: &mut Scratch| {
-        let Scratch { sorted, own_loads } = scratch;
+        let Scratch {
+            sorted,
+            own_loads,
+            dissipated: lost,
+        } = scratch;
         let mut dissipated = 0.0;
         let (keys, count) = (pass.key, pass.len());
         for start in (0..count).step_by(RUN) {
             let run = start..(start + RUN).min(count);
-            let (ids, mut state) = pass.run(run.clone(), &mut own_loads[..run.len()]);
+            let lost = &mut lost[..run.len()];
+            lost.fill(0.0);
+            let (ids, mut state) = pass.run(run.clone(), &mut own_loads[..run.len()], lost);
             sorted.sort(&inputs, &ids, &state, &keys[start..]);
             evaluate_sorted(&inputs, &ids, &mut state, sorted, dt);
-            dissipated += booked(&inputs, &ids, &mut state, sorted.ended());
+            dissipated += booked(&inputs, &ids, &state);
             add_own_loads(&ids, &state, &mut own, first_body);
         }
         dissipated
@@ -253,10 +261,11 @@ fn add_own_loads(ids: &EntryIds, state: &EntryState, own: &mut OwnSums, first_bo
 }
 
 /// The contact loop's working memory, one per thread, kept from step to step: the sorted lists
-/// of a run, and body `a`'s side of its loads.
+/// of a run, body `a`'s side of its loads, and the energy its entries dissipated.
 struct Scratch {
     sorted: Sorted,
     own_loads: [OwnLoad; RUN],
+    dissipated: [f64; RUN],
 }
 
 impl Scratch {
@@ -264,6 +273,7 @@ impl Scratch {
         Box::new(Scratch {
             sorted: Sorted::default(),
             own_loads: [OwnLoad::default(); RUN],
+            dissipated: [0.0; RUN],
         })
     }
 }
@@ -460,31 +470,29 @@ fn evaluate_sorted(
             .map(|j| inputs.motion[j as usize].position);
         let centre_a = inputs.motion[key.a as usize].position;
         state.set_load(k, Load::new(&r, point, centre_a, centre_b));
-        state.report[k] = LawReport::of(&r);
+        if let Some(report) = state.report.get_mut(k) {
+            *report = LawReport::of(&r);
+        }
+        state.dissipated[k] = r.dissipated;
     }
 }
 
-/// The energy a run's entries dissipated this step, added up in entry order (a ghost's contacts
-/// are left to its owner); then the reports of the sphere pairs that `ended` go back to zero, so
-/// that what their springs held is booked once (the next steps leave them as they are).
+/// The energy a run's entries dissipated this step, from the loop's scratch, added up in entry
+/// order (a ghost's contacts are left to its owner). An entry the laws left as it is (apart, and
+/// apart before) adds a zero.
 #[inline(always)]
-fn booked(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, ended: &[u32]) -> f64 {
+fn booked(inputs: &LawInputs, ids: &EntryIds, state: &EntryState) -> f64 {
     let ghost = &inputs.scene.bodies.ghost;
-    let reports = &*state.report;
-    let sum = if ghost.is_empty() {
-        reports.iter().map(|r| r.dissipated).sum::<f64>()
+    let lost = &*state.dissipated;
+    if ghost.is_empty() {
+        lost.iter().sum::<f64>()
     } else {
-        reports
-            .iter()
+        lost.iter()
             .zip(ids.key)
             .filter(|(_, key)| !ghost[key.a as usize])
-            .map(|(r, _)| r.dissipated)
+            .map(|(lost, _)| lost)
             .sum::<f64>()
-    };
-    for &k in ended {
-        state.report[k as usize].dissipated = 0.0;
     }
-    sum
 }
 
 /// How many entries ahead the contact loop asks for the partner's motion, and the force sums for

@@ -72,7 +72,10 @@ fn one_by_one(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, k: usi
     let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
     let centre = inputs.motion[key.a as usize].position;
     state.set_load(k, crate::contact::Load::new(&r, g.point, centre, None));
-    state.report[k] = crate::contact::LawReport::of(&r);
+    if let Some(report) = state.report.get_mut(k) {
+        *report = crate::contact::LawReport::of(&r);
+    }
+    state.dissipated[k] = r.dissipated;
 }
 
 #[inline(always)]
@@ -274,6 +277,7 @@ mod tests {
                 let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
                 let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
                 let mut own = [OwnLoad::default(); 4];
+                let mut dissipated = [0.0; 4];
                 let mut state = EntryState {
                     touching: &mut touching,
                     geometry: &mut [],
@@ -283,6 +287,7 @@ mod tests {
                     load: &mut load,
                     own: &mut own,
                     report: &mut report,
+                    dissipated: &mut dissipated,
                 };
                 if four_wide && count < 4 {
                     let rest: Vec<u32> = (0..count as u32).collect();
@@ -304,7 +309,7 @@ mod tests {
                         one_by_one(&inputs, &ids, &mut state, k, dt);
                     }
                 }
-                format!("{touching:?} {history:?} {load:?} {own:?} {report:?}")
+                format!("{touching:?} {history:?} {load:?} {own:?} {report:?} {dissipated:?}")
             };
             prop_assert_eq!(run(true, 4), run(false, 4));
             prop_assert_eq!(run(true, rest), run(false, rest));

@@ -8,7 +8,7 @@
 
 use super::forces::{ended, kinematics, LawInputs};
 use crate::contact::{ContactKey, LawReport, Load, OwnLoad, PartnerLoad};
-use crate::contact_law::{self, History, PairLaw, SpinHistory};
+use crate::contact_law::{self, effective_radius_and_mass, History, PairLaw, SpinHistory};
 use crate::narrow_phase;
 
 /// What the step writes of one entry.
@@ -20,7 +20,10 @@ pub(crate) struct EntryOut<'a> {
     /// The partner's side of the load (the store's) and body `a`'s (the contact loop's scratch).
     pub load: &'a mut PartnerLoad,
     pub own: &'a mut OwnLoad,
-    pub report: &'a mut LawReport,
+    /// In worlds that keep reports (see `contact::StoreLayout::reports`).
+    pub report: Option<&'a mut LawReport>,
+    /// The energy dissipated over the step (the contact loop's scratch).
+    pub dissipated: &'a mut f64,
 }
 
 /// Contact and response of the sphere pair `key` (its partner a body) over the step `dt`: the
@@ -33,18 +36,6 @@ pub(crate) fn sphere_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, dt
     } else {
         apart(out);
     }
-}
-
-/// R* = r_a r_b/(r_a + r_b) and m* = m_a m_b/(m_a + m_b) of a sphere pair, with one division
-/// for both (the divider is the contact loop's narrowest unit).
-#[inline(always)]
-pub(crate) fn effective_radius_and_mass(radius: (f64, f64), mass: (f64, f64)) -> (f64, f64) {
-    let (radius_sum, mass_sum) = (radius.0 + radius.1, mass.0 + mass.1);
-    let inverse = 1.0 / (radius_sum * mass_sum);
-    (
-        radius.0 * radius.1 * mass_sum * inverse,
-        mass.0 * mass.1 * radius_sum * inverse,
-    )
 }
 
 /// The two bodies of `key`.
@@ -79,7 +70,10 @@ pub(crate) fn apart(out: EntryOut) {
     let r = ended(out.history, out.spin);
     *out.load = PartnerLoad::default();
     *out.own = OwnLoad::default();
-    *out.report = LawReport::of(&r);
+    if let Some(report) = out.report {
+        *report = LawReport::of(&r);
+    }
+    *out.dissipated = r.dissipated;
 }
 
 /// Contact and response of the sphere pair `key`, which [`overlaps`], over the step `dt`.
@@ -123,7 +117,10 @@ pub(crate) fn touching_pair(inputs: &LawInputs, key: ContactKey, out: EntryOut, 
     let load = Load::new(&r, g.point, ma.position, Some(mb.position));
     *out.load = load.partner_side();
     *out.own = load.own_side();
-    *out.report = LawReport::of(&r);
+    if let Some(report) = out.report {
+        *report = LawReport::of(&r);
+    }
+    *out.dissipated = r.dissipated;
     *out.touching = true;
 }
 
@@ -244,14 +241,15 @@ mod tests {
             let mut touching = false;
             let (mut history, mut spin) = (start, start_spin);
             let (mut load, mut report) = (PartnerLoad::default(), LawReport::default());
-            let mut own = OwnLoad::default();
+            let (mut own, mut dissipated) = (OwnLoad::default(), 0.0);
             let out = EntryOut {
                 touching: &mut touching,
                 history: &mut history,
                 spin: Some(&mut spin),
                 load: &mut load,
                 own: &mut own,
-                report: &mut report,
+                report: Some(&mut report),
+                dissipated: &mut dissipated,
             };
             sphere_pair(&inputs, key, out, dt);
 
@@ -277,6 +275,7 @@ mod tests {
             prop_assert_eq!(format!("{load:?}"), format!("{:?}", general_load.partner_side()));
             prop_assert_eq!(format!("{own:?}"), format!("{:?}", general_load.own_side()));
             prop_assert_eq!(format!("{report:?}"), format!("{:?}", LawReport::of(&general)));
+            prop_assert_eq!(format!("{dissipated:?}"), format!("{:?}", general.dissipated));
             prop_assert_eq!(format!("{history:?}"), format!("{general_history:?}"));
             prop_assert_eq!(format!("{spin:?}"), format!("{general_spin:?}"));
         }

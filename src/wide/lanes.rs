@@ -234,17 +234,6 @@ impl F4 {
         unsafe { _mm256_storeu_pd(to.as_mut_ptr(), self.0) }
     }
 
-    /// Writes the first three lanes to `to` (two stores).
-    #[inline(always)]
-    pub fn store3(self, to: &mut [f64; 3]) {
-        // SAFETY: `to` has room for three numbers: two go in one 128-bit store, the third in a
-        // 64-bit one.
-        unsafe {
-            _mm_storeu_pd(to.as_mut_ptr(), _mm256_castpd256_pd128(self.0));
-            _mm_store_sd(to.as_mut_ptr().add(2), _mm256_extractf128_pd::<1>(self.0));
-        }
-    }
-
     /// Writes the first two lanes to `to` (one 128-bit store).
     #[inline(always)]
     pub fn store2(self, to: &mut [f64; 2]) {
@@ -286,12 +275,6 @@ impl F4 {
     #[inline(always)]
     pub fn store(self, to: &mut [f64; 4]) {
         *to = self.0;
-    }
-
-    /// Writes the first three lanes to `to`.
-    #[inline(always)]
-    pub fn store3(self, to: &mut [f64; 3]) {
-        to.copy_from_slice(&self.0[..3]);
     }
 
     /// Writes the first two lanes to `to`.
@@ -651,10 +634,9 @@ mod tests {
             }
             let rows = F4::rows(columns.map(F4::new));
             for (i, row) in rows.iter().enumerate() {
-                let (mut four, mut three, mut single) = ([9.0; 4], [9.0; 3], [9.0f32; 4]);
+                let (mut four, mut single) = ([9.0; 4], [9.0f32; 4]);
                 let (mut low, mut high) = ([9.0; 2], [9.0; 2]);
                 row.store(&mut four);
-                row.store3(&mut three);
                 row.store_f32(&mut single);
                 row.store2(&mut low);
                 row.store_high2(&mut high);
@@ -662,9 +644,6 @@ mod tests {
                     prop_assert!(same(four[k], columns[k][i]));
                     let rounded = columns[k][i] as f32;
                     prop_assert!(single[k].to_bits() == rounded.to_bits() || rounded.is_nan());
-                }
-                for k in 0..3 {
-                    prop_assert!(same(three[k], columns[k][i]));
                 }
                 for k in 0..2 {
                     prop_assert!(same(low[k], columns[k][i]));

@@ -4,6 +4,7 @@
 
 use super::World;
 use crate::body::BodyInit;
+use crate::contact::Placement;
 use crate::integrate;
 use crate::math::DVec3;
 use crate::step::space_order;
@@ -72,7 +73,16 @@ impl World {
             return;
         }
         let bodies = &self.bodies;
-        self.energy_removed += self.contacts.renumber(&new_index, |i| bodies.counts(i));
+        let at = Placement {
+            bodies,
+            shapes: &self.shapes,
+            planes: &self.planes,
+            laws: &self.pair_laws,
+        };
+        self.energy_removed += self
+            .contacts
+            .dropped_energy(&new_index, |i| bodies.counts(i), at);
+        self.contacts.renumber(&new_index);
         self.bodies.retain(keep);
         self.structure_changed();
     }

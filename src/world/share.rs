@@ -253,7 +253,7 @@ impl World {
         if next as usize == keep.len() {
             return;
         }
-        self.contacts.renumber(&new_index, |_| false);
+        self.contacts.renumber(&new_index);
         self.bodies.retain(keep);
         self.search.renumber(&new_index);
         self.drawing = None;

@@ -104,6 +104,7 @@ impl World {
             bodies: &self.bodies,
             shapes: &self.shapes,
             planes: &self.planes,
+            laws: &self.pair_laws,
         }
     }
 

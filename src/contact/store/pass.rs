@@ -24,6 +24,7 @@ pub(crate) struct StorePass<'a> {
     pub volume: &'a mut [Option<OverlapVolume>],
     pub history: &'a mut [History],
     pub spin: &'a mut [SpinHistory],
+    /// Empty in a world that keeps no reports (see `StoreLayout::reports`).
     pub report: &'a mut [LawReport],
     /// The partner's side of each entry's load, which the force sums read.
     pub load: &'a mut [PartnerLoad],
@@ -61,7 +62,7 @@ impl<'a> StorePass<'a> {
         let (volume, volume_rest) = split_side(self.volume, mid);
         let (history, history_rest) = self.history.split_at_mut(mid);
         let (spin, spin_rest) = split_side(self.spin, mid);
-        let (report, report_rest) = self.report.split_at_mut(mid);
+        let (report, report_rest) = split_side(self.report, mid);
         let (load, load_rest) = self.load.split_at_mut(mid);
         (
             StorePass {
@@ -89,12 +90,14 @@ impl<'a> StorePass<'a> {
         )
     }
 
-    /// The entries `run` as the contact laws see them, numbered from 0, with `own` (as long as
-    /// the run) for body `a`'s side of their loads.
+    /// The entries `run` as the contact laws see them, numbered from 0, with `own` and
+    /// `dissipated` (as long as the run) for body `a`'s side of their loads and the energy they
+    /// dissipate (see [`EntryState`]).
     pub fn run<'b>(
         &'b mut self,
         run: Range<usize>,
         own: &'b mut [OwnLoad],
+        dissipated: &'b mut [f64],
     ) -> (EntryIds<'b>, EntryState<'b>) {
         (
             EntryIds {
@@ -109,7 +112,8 @@ impl<'a> StorePass<'a> {
                 spin: side_run(self.spin, run.clone()),
                 load: &mut self.load[run.clone()],
                 own,
-                report: &mut self.report[run],
+                report: side_run(self.report, run),
+                dissipated,
             },
         )
     }

@@ -77,7 +77,7 @@ impl ContactStore {
                     spin: self.entries.spin.get(e).copied(),
                     volume: self.volume.get(e).copied().flatten(),
                     load: self.load[e],
-                    report: self.report[e],
+                    report: self.report.get(e).copied().unwrap_or_default(),
                 }
             })
             .collect()
@@ -132,7 +132,9 @@ impl ContactStore {
             *volume = None;
         }
         self.load[e] = PartnerLoad::default();
-        self.report[e] = LawReport::default();
+        if let Some(report) = self.report.get_mut(e) {
+            *report = LawReport::default();
+        }
     }
 
     /// Puts record `r` into the entry of its key (`index`: local index by global id); a record
@@ -176,7 +178,9 @@ impl ContactStore {
             *volume = r.volume;
         }
         self.load[e] = r.load;
-        self.report[e] = r.report;
+        if let Some(report) = self.report.get_mut(e) {
+            *report = r.report;
+        }
         Ok(())
     }
 }
