@@ -154,3 +154,25 @@ fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
         lean_forces.len()
     );
 }
+
+/// Bodies taken out of a world carry their contacts' elastic energy out with them (the ledger's
+/// `removed`): found again in the lean world, it must be the bits the other world kept.
+#[test]
+fn removed_bodies_carry_out_the_same_contact_energy_whether_reports_are_kept_or_not() {
+    let (mut lean, mut kept) = (pour(false), pour(true));
+    let keep: Vec<bool> = (0..lean.bodies().len()).map(|i| i % 3 != 0).collect();
+    let elastic_before = lean.energy().elastic;
+    for w in [&mut lean, &mut kept] {
+        w.remove_bodies(&keep);
+    }
+    let (lean_energy, kept_energy) = (lean.energy(), kept.energy());
+    assert_eq!(
+        lean_energy.removed.to_bits(),
+        kept_energy.removed.to_bits(),
+        "{} J against {} J",
+        lean_energy.removed,
+        kept_energy.removed
+    );
+    assert_eq!(lean_energy.elastic.to_bits(), kept_energy.elastic.to_bits());
+    assert!(lean_energy.elastic > 0.0 && lean_energy.elastic < elastic_before);
+}

@@ -168,9 +168,8 @@ pub struct StoreLayout {
     pub spins: bool,
     /// The law's report (normal force, elastic energy) of every entry: in a world with
     /// polyhedra, mesh walls or rolling friction. A world of spheres and planes under point laws
-    /// keeps none (16 bytes an entry, whose writing was 4–5 % of the settled 65,000-sphere
-    /// step): its reports are found again when read, from the geometry, the load and the history
-    /// (`ContactStore::report`).
+    /// keeps none (16 bytes an entry): its reports are found again when read, from the geometry,
+    /// the load and the history (`ContactStore::report`).
     pub reports: bool,
 }
 
