@@ -1,7 +1,7 @@
 //! The simulated world: its state, how it is built and changed, and its time step.
 
 use crate::body::Bodies;
-use crate::contact::{ContactStore, Placement, StoreLayout};
+use crate::contact::{ContactStore, StoreLayout};
 use crate::contact_law::PolyhedralLaw;
 use crate::flow::FlowMeter;
 use crate::integrate::{self, BodyMotion, Kick};
@@ -10,7 +10,6 @@ use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::{
     self, space_order, LawInputs, NeighbourSearch, RegionOutput, StageTimes, Stopwatch, WallLoads,
-    WallsNow,
 };
 use crate::time_table::TimeTable;
 use crate::wall::Plane;
@@ -22,6 +21,7 @@ mod ledger;
 mod population;
 mod share;
 mod snapshot;
+mod surroundings;
 mod view;
 
 pub use config::WorldConfig;
@@ -255,35 +255,6 @@ impl World {
         self.steps_done += 1;
     }
 
-    /// Sets gravity to the gravity table's value in the middle of this step (so a ramp gives the
-    /// exact change of velocity: the midpoint rule is exact on linear pieces). A change of the field
-    /// with the bodies where they are changes their potential energy −Σ m g·x: that change is
-    /// booked as work done on them, so the energy ledger still closes.
-    fn follow_gravity(&mut self) {
-        let Some(table) = &self.gravity_table else {
-            return;
-        };
-        let g = table.value(self.time + 0.5 * self.time_step);
-        if g == self.gravity {
-            return;
-        }
-        let change = g - self.gravity;
-        let b = &self.bodies;
-        self.gravity_work -= (0..b.len())
-            .filter(|&i| b.counts(i))
-            .map(|i| b.mass[i] * change.dot(b.position[i]))
-            .sum::<f64>();
-        self.gravity = g;
-    }
-
-    /// Puts the moving mesh walls where they are at time `t`.
-    fn move_walls_to(&mut self, t: f64) {
-        self.wall_time = t;
-        for wall in &mut self.mesh_walls {
-            wall.set_time(t);
-        }
-    }
-
     /// Runs the contact pipeline (`step/`) at the current positions: who may touch whom, who
     /// touches whom, with what force. `dt` is the interval the contact histories advance by (0 at
     /// the start), with the bodies' motion already packed; `kick` closes the step.
@@ -339,23 +310,6 @@ impl World {
         self.forces_current = true;
     }
 
-    /// Books the contacts' reactions on the walls over the step `dt` (`step::WallLoads::book`).
-    fn book_wall_loads(&mut self, dt: f64) {
-        let walls = WallsNow {
-            planes: &self.planes,
-            meshes: &self.mesh_walls,
-            states: &self.wall_states,
-            time: self.wall_time,
-        };
-        let at = Placement {
-            bodies: &self.bodies,
-            shapes: &self.shapes,
-            planes: &self.planes,
-            laws: &self.pair_laws,
-        };
-        self.wall_loads.book(&self.contacts, at, walls, dt);
-    }
-
     /// Makes the candidate list again if it may have gone stale (`step::candidates`), carrying
     /// the contacts' histories over.
     fn update_candidates(&mut self) {
@@ -369,16 +323,5 @@ impl World {
             // The list is dropped here, once the store holds it.
             self.dissipated += self.contacts.set_candidates(&list, &self.bodies, layout);
         }
-    }
-
-    /// Each moving mesh wall's motion over the step ending at the walls' time, and at its end.
-    fn update_wall_states(&mut self, dt: f64) {
-        let (now, end) = (self.wall_time - 0.5 * dt, self.wall_time);
-        self.wall_states.clear();
-        self.wall_states.extend(
-            self.mesh_walls.iter().map(|w| {
-                (!w.motion.is_fixed()).then(|| [w.motion.state(now), w.motion.state(end)])
-            }),
-        );
     }
 }

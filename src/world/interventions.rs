@@ -29,12 +29,7 @@ impl World {
     /// potential energy where they are is booked as work done on them (`gravity_work`), as a
     /// gravity table's changes are.
     pub fn set_gravity(&mut self, gravity: DVec3) {
-        let change = gravity - self.gravity;
-        let b = &self.bodies;
-        self.gravity_work -= (0..b.len())
-            .map(|i| b.mass[i] * change.dot(b.position[i]))
-            .sum::<f64>();
-        self.gravity = gravity;
+        self.change_gravity(gravity);
         self.gravity_table = None;
     }
 
