@@ -24,6 +24,8 @@ mod snapshot;
 mod surroundings;
 mod view;
 
+#[cfg(test)]
+pub(crate) use config::spheres_among_walls;
 pub use config::WorldConfig;
 pub use interventions::WallMotionChangeError;
 pub use share::{RunningTotals, ShareOutlook, SharePart};

@@ -167,51 +167,10 @@ impl WallSides {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::BodyInit;
-    use crate::material::{Material, PairTable};
     use crate::math::DVec3;
-    use crate::shape::{Shape, Sphere};
-    use crate::WorldConfig;
 
     fn world_with(walls: Vec<crate::wall::MeshWall>, positions: &[DVec3]) -> World {
-        let material = Material {
-            name: "m".into(),
-            density: 1000.0,
-            youngs_modulus: 1e6,
-            poisson_ratio: 0.3,
-            restitution: 0.5,
-            friction: 0.5,
-            rolling_friction: 0.0,
-        };
-        let laws = PairTable::new(
-            std::slice::from_ref(&material),
-            crate::contact_law::NormalLaw::Hertz,
-            1.0,
-            &[],
-        );
-        let mut world = World::new(WorldConfig {
-            time_step: 1e-5,
-            gravity: DVec3::ZERO,
-            materials: vec![material],
-            pair_laws: laws,
-            planes: Vec::new(),
-            broad_phase: Default::default(),
-            skin: None,
-            threads: 1,
-        })
-        .unwrap()
-        .with_mesh_walls(walls);
-        for &position in positions {
-            world.add_body(BodyInit {
-                shape: Shape::Sphere(Sphere::new(0.01)),
-                material: 0,
-                position,
-                orientation: crate::math::DQuat::IDENTITY,
-                velocity: DVec3::ZERO,
-                angular_velocity: DVec3::ZERO,
-            });
-        }
-        world
+        crate::world::spheres_among_walls(walls, positions)
     }
 
     fn unit_box(facing: crate::wall::Facing) -> crate::wall::MeshWall {

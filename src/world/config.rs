@@ -20,3 +20,50 @@ pub struct WorldConfig {
     /// Worker threads for the parallel loops (0: one per core).
     pub threads: usize,
 }
+
+/// A world for tests: spheres of 1 cm at `positions` (material of density 1000 kg/m³, E 1 MPa,
+/// Hertz), among the mesh walls `walls`, no gravity, a step of 10 µs, one thread.
+#[cfg(test)]
+pub(crate) fn spheres_among_walls(
+    walls: Vec<crate::wall::MeshWall>,
+    positions: &[DVec3],
+) -> super::World {
+    let material = Material {
+        name: "m".into(),
+        density: 1000.0,
+        youngs_modulus: 1e6,
+        poisson_ratio: 0.3,
+        restitution: 0.5,
+        friction: 0.5,
+        rolling_friction: 0.0,
+    };
+    let laws = PairTable::new(
+        std::slice::from_ref(&material),
+        crate::contact_law::NormalLaw::Hertz,
+        1.0,
+        &[],
+    );
+    let mut world = super::World::new(WorldConfig {
+        time_step: 1e-5,
+        gravity: DVec3::ZERO,
+        materials: vec![material],
+        pair_laws: laws,
+        planes: Vec::new(),
+        broad_phase: Default::default(),
+        skin: None,
+        threads: 1,
+    })
+    .unwrap()
+    .with_mesh_walls(walls);
+    for &position in positions {
+        world.add_body(crate::body::BodyInit {
+            shape: crate::shape::Shape::Sphere(crate::shape::Sphere::new(0.01)),
+            material: 0,
+            position,
+            orientation: crate::math::DQuat::IDENTITY,
+            velocity: DVec3::ZERO,
+            angular_velocity: DVec3::ZERO,
+        });
+    }
+    world
+}

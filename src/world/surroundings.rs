@@ -72,59 +72,15 @@ impl World {
 
 #[cfg(test)]
 mod tests {
-    use crate::body::BodyInit;
-    use crate::material::{Material, PairTable};
-    use crate::math::{DQuat, DVec3};
-    use crate::shape::{Shape, Sphere};
-    use crate::world::{World, WorldConfig};
-
-    /// Two spheres of 1 cm at heights 1 m and 2 m, no walls, gravity zero.
-    fn two_spheres() -> World {
-        let material = Material {
-            name: "grain".into(),
-            density: 1000.0,
-            youngs_modulus: 1e7,
-            poisson_ratio: 0.25,
-            restitution: 0.5,
-            friction: 0.5,
-            rolling_friction: 0.0,
-        };
-        let laws = PairTable::new(
-            std::slice::from_ref(&material),
-            crate::contact_law::NormalLaw::Hertz,
-            1.0,
-            &[],
-        );
-        let mut world = World::new(WorldConfig {
-            time_step: 1e-5,
-            gravity: DVec3::ZERO,
-            materials: vec![material],
-            pair_laws: laws,
-            planes: Vec::new(),
-            broad_phase: Default::default(),
-            skin: None,
-            threads: 1,
-        })
-        .unwrap();
-        for z in [1.0, 2.0] {
-            world.add_body(BodyInit {
-                shape: Shape::Sphere(Sphere::new(0.01)),
-                material: 0,
-                position: DVec3::new(0.0, 0.0, z),
-                orientation: DQuat::IDENTITY,
-                velocity: DVec3::ZERO,
-                angular_velocity: DVec3::ZERO,
-            });
-        }
-        world
-    }
+    use crate::math::DVec3;
 
     /// `World::set_gravity` booked the work of a change of gravity on every body, ghosts too,
     /// where the gravity table's changes left ghosts to their owners: in a share of a decomposed
     /// world a ghost's potential energy would have been booked twice (by its owner too).
     #[test]
     fn set_gravity_books_no_work_on_ghosts() {
-        let mut world = two_spheres();
+        let heights = [DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.0, 0.0, 2.0)];
+        let mut world = crate::world::spheres_among_walls(Vec::new(), &heights);
         world.bodies.ghost = vec![false, true];
         let mass = world.bodies.mass[0];
         world.set_gravity(DVec3::new(0.0, 0.0, -10.0));
