@@ -4,7 +4,6 @@
 
 use super::World;
 use crate::body::BodyInit;
-use crate::contact::Placement;
 use crate::integrate;
 use crate::math::DVec3;
 use crate::step::space_order;
@@ -73,15 +72,10 @@ impl World {
             return;
         }
         let bodies = &self.bodies;
-        let at = Placement {
-            bodies,
-            shapes: &self.shapes,
-            planes: &self.planes,
-            laws: &self.pair_laws,
-        };
-        self.energy_removed += self
+        let lost = self
             .contacts
-            .dropped_energy(&new_index, |i| bodies.counts(i), at);
+            .dropped_energy(&new_index, |i| bodies.counts(i), self.placement());
+        self.energy_removed += lost;
         self.contacts.renumber(&new_index);
         self.bodies.retain(keep);
         self.structure_changed();
