@@ -87,6 +87,10 @@ pub struct World {
     /// What the next opening half kick gives beyond the work the ledger books for it, when the
     /// forces were found again since the last step ([`World::update_contacts`]).
     kick_excess: f64,
+    /// The last step's closing half kick, when it was left to the next step's opening pass
+    /// (between two steps of one [`World::run_steps`], where nothing reads the velocities);
+    /// `None` whenever outside code can see the world.
+    closing_kick: Option<Kick>,
     /// See [`World::set_sort_interval`].
     sort_interval: u64,
     times: StageTimes,
@@ -130,6 +134,7 @@ impl World {
             motion: Vec::new(),
             dissipated_chunks: Vec::new(),
             forces_current: false,
+            closing_kick: None,
             drawing: None,
             kick_excess: 0.0,
             sort_interval: space_order::SORT_INTERVAL,
@@ -188,10 +193,11 @@ impl World {
         // The pool is shared (Arc) so that it can run a closure that borrows the world mutably.
         let pool = std::sync::Arc::clone(&self.pool);
         pool.install(|| {
-            for _ in 0..n {
-                self.advance();
+            for k in 0..n {
+                self.advance(k + 1 < n);
             }
         });
+        debug_assert!(self.closing_kick.is_none());
     }
 
     /// Finds the contacts of the current state and their forces, if bodies were added since they
@@ -225,8 +231,11 @@ impl World {
 
     /// One time step. The stages, in order: half kick with the current forces and drift (one pass
     /// over the bodies), neighbour search, narrow phase, contact laws, force sums with the closing
-    /// half kick (one pass).
-    fn advance(&mut self) {
+    /// half kick (one pass). When `another_follows` (in the same [`World::run_steps`]), the
+    /// closing half kick is left to the next step's first pass, which reads the velocities anyway,
+    /// unless something between the two reads them: bodies leaving the domain (their energy is
+    /// booked) or a share's look-ahead at the bodies' next move.
+    fn advance(&mut self, another_follows: bool) {
         self.update_contacts();
         if self.sort_interval > 0
             && self.steps_done.is_multiple_of(self.sort_interval)
@@ -237,7 +246,14 @@ impl World {
         self.follow_gravity();
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
-        integrate::kick_drift(&mut self.bodies, self.gravity, dt, &mut self.motion);
+        let closing = self.closing_kick.take();
+        integrate::kick_drift(
+            &mut self.bodies,
+            self.gravity,
+            dt,
+            &mut self.motion,
+            closing,
+        );
         self.dissipated -= std::mem::take(&mut self.kick_excess);
         clock.lap(&mut self.times.integrate);
         for meter in &mut self.flow_meters {
@@ -249,7 +265,12 @@ impl World {
             gravity: self.gravity,
             h: 0.5 * dt,
         };
-        self.update_forces(dt, Some(kick));
+        if another_follows && self.domain.is_none() && self.drawing.is_none() {
+            self.update_forces(dt, None);
+            self.closing_kick = Some(kick);
+        } else {
+            self.update_forces(dt, Some(kick));
+        }
         let mut clock = Stopwatch::start();
         self.remove_bodies_outside_domain();
         clock.lap(&mut self.times.other);

@@ -9,7 +9,10 @@
 //! The step touches every body twice, not five times: [`kick_drift`] does the first half kick and
 //! the drift and packs the motion the contact loops read ([`BodyMotion`]) in the same pass, and
 //! the closing half kick ([`Kick::apply`]) runs in the pass that sums each body's contact forces
-//! (`step::accumulate`), while they are in registers.
+//! (`step::accumulate`), while they are in registers. Between two steps of one batch
+//! (`World::run_steps`) nothing reads the velocities, and the closing half kick is left to the
+//! next [`kick_drift`], which reads the same arrays anyway: the sums' pass then writes only the
+//! forces (the same operations in the same order, so the same bits).
 
 mod isotropic;
 mod last_level_cache;
@@ -63,8 +66,15 @@ impl Kick {
 /// The first half of a step for every body: the half kick with the forces of the last
 /// evaluation (still in `bodies.force` and `bodies.torque`), the drift over `dt`, and the motion
 /// the contact loops read, with the velocities at the end of the step predicted from the same
-/// forces (see [`BodyMotion::predict`]).
-pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec<BodyMotion>) {
+/// forces (see [`BodyMotion::predict`]). `closing`: the last step's closing half kick, if that
+/// step left it to this pass (with the forces it found, which are still those of the bodies).
+pub fn kick_drift(
+    bodies: &mut Bodies,
+    gravity: DVec3,
+    dt: f64,
+    motion: &mut Vec<BodyMotion>,
+    closing: Option<Kick>,
+) {
     let kick = Kick {
         gravity,
         h: 0.5 * dt,
@@ -110,38 +120,46 @@ pub fn kick_drift(bodies: &mut Bodies, gravity: DVec3, dt: f64, motion: &mut Vec
                 bounding_radius: &bounding_radius[bodies],
                 stream_motion,
             };
-            kick_drift_task(&mut arrays, kick, dt);
+            kick_drift_task(&mut arrays, closing, kick, dt);
             motion::end_streaming(stream_motion);
         });
 }
 
 /// [`kick_drift`] over one task's bodies: isotropic ones four at a time where the CPU can.
-fn kick_drift_task(arrays: &mut Arrays, kick: Kick, dt: f64) {
+fn kick_drift_task(arrays: &mut Arrays, closing: Option<Kick>, kick: Kick, dt: f64) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the CPU has AVX, which is all `kick_drift_avx` is compiled for.
-        unsafe { kick_drift_avx(arrays, kick, dt) };
+        unsafe { kick_drift_avx(arrays, closing, kick, dt) };
         return;
     }
     // SAFETY: off x86-64 the four-wide path is plain arrays; on it, without AVX, `by_fours` is
     // false and the path is not taken.
-    unsafe { kick_drift_bodies(arrays, kick, dt, cfg!(not(target_arch = "x86_64"))) };
+    let by_fours = cfg!(not(target_arch = "x86_64"));
+    unsafe { kick_drift_bodies(arrays, closing, kick, dt, by_fours) };
 }
 
 /// [`kick_drift_bodies`] compiled for AVX, whose 256-bit registers hold an `F4`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn kick_drift_avx(arrays: &mut Arrays, kick: Kick, dt: f64) {
-    kick_drift_bodies(arrays, kick, dt, true);
+unsafe fn kick_drift_avx(arrays: &mut Arrays, closing: Option<Kick>, kick: Kick, dt: f64) {
+    kick_drift_bodies(arrays, closing, kick, dt, true);
 }
 
-/// The opening half kick and drift of the bodies of `arrays`, in order: four isotropic bodies at
-/// once when `by_fours` (`isotropic::four`), the others one by one.
+/// The last step's closing half kick (if it was left to this pass), then the opening half kick
+/// and the drift, of the bodies of `arrays` in order: four isotropic bodies at once when
+/// `by_fours` (`isotropic::four`), the others one by one.
 ///
 /// # Safety
 /// `by_fours` only on a CPU with AVX, from code compiled for it (off x86-64, always).
 #[inline(always)]
-unsafe fn kick_drift_bodies(arrays: &mut Arrays, kick: Kick, dt: f64, by_fours: bool) {
+unsafe fn kick_drift_bodies(
+    arrays: &mut Arrays,
+    closing: Option<Kick>,
+    kick: Kick,
+    dt: f64,
+    by_fours: bool,
+) {
     let count = arrays.position.len();
     let mut k = 0;
     while k < count {
@@ -152,18 +170,31 @@ unsafe fn kick_drift_bodies(arrays: &mut Arrays, kick: Kick, dt: f64, by_fours: 
             && rotation::is_isotropic(arrays.inv_inertia[k + 2])
             && rotation::is_isotropic(arrays.inv_inertia[k + 3]);
         // SAFETY: `by_fours` only where the four-wide path may run (the caller's promise).
-        if four && unsafe { isotropic::four(arrays, k, kick, dt) } {
+        if four && unsafe { isotropic::four(arrays, k, closing, kick, dt) } {
             k += 4;
         } else {
-            kick_drift_one(arrays, k, kick, dt);
+            kick_drift_one(arrays, k, closing, kick, dt);
             k += 1;
         }
     }
 }
 
-/// The opening half kick and drift of body `k` of `arrays`.
+/// The closing half kick left to this pass (if any), the opening half kick and the drift of
+/// body `k` of `arrays`.
 #[inline(always)]
-fn kick_drift_one(arrays: &mut Arrays, k: usize, kick: Kick, dt: f64) {
+fn kick_drift_one(arrays: &mut Arrays, k: usize, closing: Option<Kick>, kick: Kick, dt: f64) {
+    if let Some(closing) = closing {
+        // As `step::accumulate` would have given it, with the same forces.
+        let body = KickedBody {
+            velocity: &mut arrays.velocity[k],
+            angular_momentum: &mut arrays.angular_momentum[k],
+            angular_velocity: &mut arrays.angular_velocity[k],
+            orientation: &arrays.orientation[k],
+            inv_mass: arrays.inv_mass[k],
+            inv_inertia: &arrays.inv_inertia[k],
+        };
+        closing.apply(body, arrays.force[k], arrays.torque[k]);
+    }
     let Arrays {
         position: x,
         velocity: v,
