@@ -4,7 +4,7 @@ use crate::body::Bodies;
 use crate::contact::{ContactStore, StoreLayout};
 use crate::contact_law::PolyhedralLaw;
 use crate::flow::FlowMeter;
-use crate::integrate::{self, BodyMotion, Kick};
+use crate::integrate::{self, BodyMotion, Closing, Kick};
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
@@ -30,6 +30,15 @@ pub use config::WorldConfig;
 pub use interventions::WallMotionChangeError;
 pub use share::{RunningTotals, ShareOutlook, SharePart};
 pub use snapshot::{RestoreError, ShapeRecord, WorldState, WorldStateRef};
+
+/// How a step's contact pipeline ends ([`World::update_forces`]).
+enum Ending {
+    /// The bodies' force sums completed, and the step's closing half kick given if any (none
+    /// when the forces are found again between steps).
+    Now(Option<Kick>),
+    /// Both left to the next step's opening pass (`integrate::Closing`).
+    LeftToNextStep(Kick),
+}
 
 /// A world: bodies, walls and contacts with their history, the time, and the step that advances
 /// them. Built complete by [`World::new`] (and the `with_*` parts that a world may lack: mesh
@@ -87,9 +96,10 @@ pub struct World {
     /// What the next opening half kick gives beyond the work the ledger books for it, when the
     /// forces were found again since the last step ([`World::update_contacts`]).
     kick_excess: f64,
-    /// The last step's closing half kick, when it was left to the next step's opening pass
-    /// (between two steps of one [`World::run_steps`], where nothing reads the velocities);
-    /// `None` whenever outside code can see the world.
+    /// The last step's closing half kick, when it and the bodies' force sums were left to the
+    /// next step's opening pass (between two steps of one [`World::run_steps`], where nothing
+    /// reads the forces or the velocities): `bodies.force` and `bodies.torque` then hold only
+    /// each body's own contacts' sums. `None` whenever outside code can see the world.
     closing_kick: Option<Kick>,
     /// See [`World::set_sort_interval`].
     sort_interval: u64,
@@ -143,45 +153,6 @@ impl World {
         })
     }
 
-    /// The world with these triangle-mesh walls (fixed or moving).
-    pub fn with_mesh_walls(mut self, walls: Vec<MeshWall>) -> Self {
-        self.mesh_walls = walls;
-        self.structure_changed();
-        self
-    }
-
-    /// The world with this contact law for polyhedra (the volume law by default).
-    pub fn with_polyhedral_law(mut self, law: PolyhedralLaw) -> Self {
-        self.polyhedral_law = law;
-        self.structure_changed();
-        self
-    }
-
-    /// The world with gravity following `table` (see [`World::follow_gravity`]).
-    pub fn with_gravity_table(mut self, table: TimeTable<DVec3>) -> Self {
-        self.gravity = table.value(self.time + 0.5 * self.time_step);
-        self.gravity_table = Some(table);
-        self
-    }
-
-    /// The world with these flow meters.
-    pub fn with_flow_meters(mut self, meters: Vec<FlowMeter>) -> Self {
-        self.flow_meters = meters;
-        self
-    }
-
-    /// The world with an open boundary: bodies whose centre leaves `domain` are removed.
-    pub fn with_domain(mut self, domain: Aabb) -> Self {
-        self.domain = Some(domain);
-        self
-    }
-
-    /// A fifth of the smallest bounding radius: small enough that the extra candidate pairs cost
-    /// little, large enough that the list lasts many steps at the speeds DEM time steps allow.
-    pub fn default_skin(smallest_radius: f64) -> f64 {
-        0.2 * smallest_radius
-    }
-
     /// Advances the world by one time step.
     pub fn step(&mut self) {
         self.run_steps(1);
@@ -219,7 +190,7 @@ impl World {
             let before = self.half_kick_excess(None);
             self.move_walls_to(self.time);
             integrate::motion::pack(&self.bodies, &mut self.motion);
-            self.update_forces(0.0, None);
+            self.update_forces(0.0, Ending::Now(None));
             let before = if after_a_step {
                 before
             } else {
@@ -231,10 +202,11 @@ impl World {
 
     /// One time step. The stages, in order: half kick with the current forces and drift (one pass
     /// over the bodies), neighbour search, narrow phase, contact laws, force sums with the closing
-    /// half kick (one pass). When `another_follows` (in the same [`World::run_steps`]), the
-    /// closing half kick is left to the next step's first pass, which reads the velocities anyway,
-    /// unless something between the two reads them: bodies leaving the domain (their energy is
-    /// booked) or a share's look-ahead at the bodies' next move.
+    /// half kick (one pass). When `another_follows` (in the same [`World::run_steps`]), the sums
+    /// and the closing half kick are left to the next step's first pass, which reads the forces
+    /// and velocities anyway, unless something between the two reads them: bodies leaving the
+    /// domain (their energy is booked), a share's look-ahead at the bodies' next move, the
+    /// bodies put in a new order.
     fn advance(&mut self, another_follows: bool) {
         self.update_contacts();
         if self.sort_interval > 0
@@ -246,7 +218,11 @@ impl World {
         self.follow_gravity();
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
-        let closing = self.closing_kick.take();
+        let sums = step::IncomingSums(&self.contacts);
+        let closing = self
+            .closing_kick
+            .take()
+            .map(|kick| Closing { kick, sums: &sums });
         integrate::kick_drift(
             &mut self.bodies,
             self.gravity,
@@ -265,11 +241,12 @@ impl World {
             gravity: self.gravity,
             h: 0.5 * dt,
         };
-        if another_follows && self.domain.is_none() && self.drawing.is_none() {
-            self.update_forces(dt, None);
-            self.closing_kick = Some(kick);
+        let sort_next =
+            self.sort_interval > 0 && (self.steps_done + 1).is_multiple_of(self.sort_interval);
+        if another_follows && self.domain.is_none() && self.drawing.is_none() && !sort_next {
+            self.update_forces(dt, Ending::LeftToNextStep(kick));
         } else {
-            self.update_forces(dt, Some(kick));
+            self.update_forces(dt, Ending::Now(Some(kick)));
         }
         let mut clock = Stopwatch::start();
         self.remove_bodies_outside_domain();
@@ -280,8 +257,8 @@ impl World {
 
     /// Runs the contact pipeline (`step/`) at the current positions: who may touch whom, who
     /// touches whom, with what force. `dt` is the interval the contact histories advance by (0 at
-    /// the start), with the bodies' motion already packed; `kick` closes the step.
-    fn update_forces(&mut self, dt: f64, kick: Option<Kick>) {
+    /// the start), with the bodies' motion already packed; `ending` says how the step ends.
+    fn update_forces(&mut self, dt: f64, ending: Ending) {
         let mut clock = Stopwatch::start();
         self.update_candidates();
         clock.lap(&mut self.times.candidates);
@@ -320,13 +297,18 @@ impl World {
         );
         (self.bodies.force, self.bodies.torque) = (force, torque);
         clock.lap(&mut self.times.detect_and_evaluate);
-        let ahead = kick
-            .and(self.drawing.as_ref())
-            .and_then(|d| d.lookahead(&self.search, self.bodies.len(), self.time_step));
-        let found = ahead.is_some();
-        let moves = step::accumulate(&mut self.bodies, &self.contacts, kick, ahead);
-        if let Some(d) = &mut self.drawing {
-            d.next = found.then_some(moves);
+        match ending {
+            Ending::Now(kick) => {
+                let ahead = kick
+                    .and(self.drawing.as_ref())
+                    .and_then(|d| d.lookahead(&self.search, self.bodies.len(), self.time_step));
+                let found = ahead.is_some();
+                let moves = step::accumulate(&mut self.bodies, &self.contacts, kick, ahead);
+                if let Some(d) = &mut self.drawing {
+                    d.next = found.then_some(moves);
+                }
+            }
+            Ending::LeftToNextStep(kick) => self.closing_kick = Some(kick),
         }
         self.book_wall_loads(dt);
         clock.lap(&mut self.times.accumulate);

@@ -10,9 +10,10 @@
 //! the drift and packs the motion the contact loops read ([`BodyMotion`]) in the same pass, and
 //! the closing half kick ([`Kick::apply`]) runs in the pass that sums each body's contact forces
 //! (`step::accumulate`), while they are in registers. Between two steps of one batch
-//! (`World::run_steps`) nothing reads the velocities, and the closing half kick is left to the
-//! next [`kick_drift`], which reads the same arrays anyway: the sums' pass then writes only the
-//! forces (the same operations in the same order, so the same bits).
+//! (`World::run_steps`) nothing reads the forces or the velocities, and both the sums and the
+//! closing half kick are left to the next [`kick_drift`] ([`Closing`]), which reads the same
+//! arrays anyway: one pass over the bodies a step instead of two (the same operations in the same
+//! order, so the same bits).
 
 mod isotropic;
 mod last_level_cache;
@@ -35,6 +36,22 @@ const BODIES_PER_TASK: usize = 1024;
 pub struct Kick {
     pub gravity: DVec3,
     pub h: f64,
+}
+
+/// Completes a body's force and moment sums, which hold its own contacts' loads (those it is
+/// body `a` of), with the loads of the contacts whose partner it is (`step::IncomingSums`).
+pub trait ForceSums: Sync {
+    /// Body `body`'s whole force and moment, from the sums of its own contacts.
+    fn complete(&self, body: usize, force: DVec3, torque: DVec3) -> (DVec3, DVec3);
+    /// Asks for what [`ForceSums::complete`] of `body` will read (a hint only).
+    fn prefetch(&self, body: usize);
+}
+
+/// What the last step left to the next [`kick_drift`]: its force sums (`sums`) and its closing
+/// half kick.
+pub struct Closing<'a, S: ForceSums> {
+    pub kick: Kick,
+    pub sums: &'a S,
 }
 
 /// One body's velocities and what the kick reads of it.
@@ -66,14 +83,15 @@ impl Kick {
 /// The first half of a step for every body: the half kick with the forces of the last
 /// evaluation (still in `bodies.force` and `bodies.torque`), the drift over `dt`, and the motion
 /// the contact loops read, with the velocities at the end of the step predicted from the same
-/// forces (see [`BodyMotion::predict`]). `closing`: the last step's closing half kick, if that
-/// step left it to this pass (with the forces it found, which are still those of the bodies).
-pub fn kick_drift(
+/// forces (see [`BodyMotion::predict`]). `closing`: the last step's force sums and closing half
+/// kick, if that step left them to this pass; the sums are then completed first (and written:
+/// `bodies.force` and `bodies.torque` are the whole loads after this pass, as after the sums').
+pub fn kick_drift<S: ForceSums>(
     bodies: &mut Bodies,
     gravity: DVec3,
     dt: f64,
     motion: &mut Vec<BodyMotion>,
-    closing: Option<Kick>,
+    closing: Option<Closing<S>>,
 ) {
     let kick = Kick {
         gravity,
@@ -93,9 +111,13 @@ pub fn kick_drift(
         bounding_radius,
         ..
     } = bodies;
-    let (inv_mass, inv_inertia, force, torque) = (&*inv_mass, &*inv_inertia, &*force, &*torque);
+    let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
     let bounding_radius = &*bounding_radius;
     let stream_motion = motion::streams_motion(position.len());
+    let (closing_kick, sums) = match closing {
+        Some(c) => (Some(c.kick), Some(c.sums)),
+        None => (None, None),
+    };
     position
         .par_chunks_mut(BODIES_PER_TASK)
         .zip(velocity.par_chunks_mut(BODIES_PER_TASK))
@@ -103,9 +125,15 @@ pub fn kick_drift(
         .zip(angular_momentum.par_chunks_mut(BODIES_PER_TASK))
         .zip(angular_velocity.par_chunks_mut(BODIES_PER_TASK))
         .zip(motion.par_chunks_mut(BODIES_PER_TASK))
+        .zip(force.par_chunks_mut(BODIES_PER_TASK))
+        .zip(torque.par_chunks_mut(BODIES_PER_TASK))
         .enumerate()
-        .for_each(|(c, (((((x, v), q), l), w), m))| {
+        .for_each(|(c, (((((((x, v), q), l), w), m), f), t))| {
             let bodies = c * BODIES_PER_TASK..c * BODIES_PER_TASK + x.len();
+            if let Some(sums) = sums {
+                complete_sums(sums, bodies.start, f, t);
+            }
+            let (force, torque) = (&*f, &*t);
             let mut arrays = Arrays {
                 position: x,
                 velocity: v,
@@ -115,14 +143,30 @@ pub fn kick_drift(
                 motion: m,
                 inv_mass: &inv_mass[bodies.clone()],
                 inv_inertia: &inv_inertia[bodies.clone()],
-                force: &force[bodies.clone()],
-                torque: &torque[bodies.clone()],
+                force,
+                torque,
                 bounding_radius: &bounding_radius[bodies],
                 stream_motion,
             };
-            kick_drift_task(&mut arrays, closing, kick, dt);
+            kick_drift_task(&mut arrays, closing_kick, kick, dt);
             motion::end_streaming(stream_motion);
         });
+}
+
+/// Bodies a task asks ahead for what completing their sums reads.
+const SUMS_PREFETCH_AHEAD: usize = 8;
+
+/// The force and moment sums of the task's bodies from `first` on (their own contacts' in
+/// `force` and `torque`), completed by `sums`: a loop of its own before the kicks, which then
+/// read the task's sums from the cache.
+fn complete_sums<S: ForceSums>(sums: &S, first: usize, force: &mut [DVec3], torque: &mut [DVec3]) {
+    let count = force.len();
+    for k in 0..count {
+        if k + SUMS_PREFETCH_AHEAD < count {
+            sums.prefetch(first + k + SUMS_PREFETCH_AHEAD);
+        }
+        (force[k], torque[k]) = sums.complete(first + k, force[k], torque[k]);
+    }
 }
 
 /// [`kick_drift`] over one task's bodies: isotropic ones four at a time where the CPU can.

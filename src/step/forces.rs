@@ -12,7 +12,7 @@ use crate::contact::{
 use crate::contact_law::{
     self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
 };
-use crate::integrate::{BodyMotion, Kick, KickedBody};
+use crate::integrate::{BodyMotion, ForceSums, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
@@ -553,7 +553,7 @@ pub fn accumulate(
     kick: Option<Kick>,
     ahead: Option<Lookahead>,
 ) -> Moves {
-    let load = store.loads();
+    let sums = IncomingSums(store);
     let Bodies {
         position,
         orientation,
@@ -581,21 +581,10 @@ pub fn accumulate(
         .fold(
             || Moves::NONE,
             |moves, (i, ((((force, torque), v), l), w))| {
-                // Entries that do not touch hold a zero load, so every entry is added without a
-                // test (whether a candidate touches is a coin toss, and a mispredicted branch per
-                // entry cost more than the addition): a sum that starts at +0 stays bit for bit
-                // the same when ±0 is added.
                 if i + PREFETCH_AHEAD < count {
-                    for &e in store.incoming(i + PREFETCH_AHEAD) {
-                        prefetch(&load[e as usize]);
-                    }
+                    sums.prefetch(i + PREFETCH_AHEAD);
                 }
-                let (mut f, mut t) = (*force, *torque);
-                for &e in store.incoming(i) {
-                    let e = e as usize;
-                    f -= load[e].force;
-                    t += load[e].torque_b;
-                }
+                let (f, t) = sums.complete(i, *force, *torque);
                 *force = f;
                 *torque = t;
                 let Some(kick) = kick else {
@@ -619,6 +608,36 @@ pub fn accumulate(
             },
         )
         .reduce(|| Moves::NONE, Moves::merge)
+}
+
+/// The loads of the contacts whose partner a body is, from the store: what completes the sums
+/// of its own contacts that [`evaluate`] left, in store order.
+pub struct IncomingSums<'a>(pub &'a ContactStore);
+
+impl ForceSums for IncomingSums<'_> {
+    #[inline(always)]
+    fn complete(&self, body: usize, force: DVec3, torque: DVec3) -> (DVec3, DVec3) {
+        // Entries that do not touch hold a zero load, so every entry is added without a test
+        // (whether a candidate touches is a coin toss, and a mispredicted branch per entry cost
+        // more than the addition): a sum that starts at +0 stays bit for bit the same when ±0
+        // is added.
+        let load = self.0.loads();
+        let (mut f, mut t) = (force, torque);
+        for &e in self.0.incoming(body) {
+            let e = e as usize;
+            f -= load[e].force;
+            t += load[e].torque_b;
+        }
+        (f, t)
+    }
+
+    #[inline(always)]
+    fn prefetch(&self, body: usize) {
+        let load = self.0.loads();
+        for &e in self.0.incoming(body) {
+            prefetch(&load[e as usize]);
+        }
+    }
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'

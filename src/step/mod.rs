@@ -31,7 +31,7 @@ pub mod wall_loads;
 
 pub use candidates::{NeighbourSearch, SearchState};
 pub use detect::{detect_regions, RegionOutput, Scene};
-pub use forces::{accumulate, LawInputs};
+pub use forces::{accumulate, IncomingSums, LawInputs};
 pub use lookahead::{Lookahead, Moves};
 pub use timing::{StageTimes, Stopwatch};
 pub use wall_loads::{WallLoads, WallsNow};

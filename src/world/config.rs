@@ -1,9 +1,13 @@
 //! What a world is built from (`World::new`).
 
+use super::World;
 use crate::broad_phase;
+use crate::contact_law::PolyhedralLaw;
+use crate::flow::FlowMeter;
 use crate::material::{Material, PairTable};
-use crate::math::DVec3;
-use crate::wall::Plane;
+use crate::math::{Aabb, DVec3};
+use crate::time_table::TimeTable;
+use crate::wall::{MeshWall, Plane};
 
 /// Everything about a world except its bodies and the parts it may lack (see `World::with_*`).
 pub struct WorldConfig {
@@ -19,6 +23,48 @@ pub struct WorldConfig {
     pub skin: Option<f64>,
     /// Worker threads for the parallel loops (0: one per core).
     pub threads: usize,
+}
+
+/// The parts a world may lack, each added to a world built by [`World::new`].
+impl World {
+    /// The world with these triangle-mesh walls (fixed or moving).
+    pub fn with_mesh_walls(mut self, walls: Vec<MeshWall>) -> Self {
+        self.mesh_walls = walls;
+        self.structure_changed();
+        self
+    }
+
+    /// The world with this contact law for polyhedra (the volume law by default).
+    pub fn with_polyhedral_law(mut self, law: PolyhedralLaw) -> Self {
+        self.polyhedral_law = law;
+        self.structure_changed();
+        self
+    }
+
+    /// The world with gravity following `table` (see [`World::follow_gravity`]).
+    pub fn with_gravity_table(mut self, table: TimeTable<DVec3>) -> Self {
+        self.gravity = table.value(self.time + 0.5 * self.time_step);
+        self.gravity_table = Some(table);
+        self
+    }
+
+    /// The world with these flow meters.
+    pub fn with_flow_meters(mut self, meters: Vec<FlowMeter>) -> Self {
+        self.flow_meters = meters;
+        self
+    }
+
+    /// The world with an open boundary: bodies whose centre leaves `domain` are removed.
+    pub fn with_domain(mut self, domain: Aabb) -> Self {
+        self.domain = Some(domain);
+        self
+    }
+
+    /// A fifth of the smallest bounding radius: small enough that the extra candidate pairs cost
+    /// little, large enough that the list lasts many steps at the speeds DEM time steps allow.
+    pub fn default_skin(smallest_radius: f64) -> f64 {
+        0.2 * smallest_radius
+    }
 }
 
 /// A world for tests: spheres of 1 cm at `positions` (material of density 1000 kg/m³, E 1 MPa,
