@@ -6,7 +6,7 @@
 //! fixed (Dullweber, Leimkuhler & McLachlan 1997). Both parts are time-reversible and symplectic,
 //! so a free body keeps its energy and angular momentum over long runs.
 //!
-//! The step touches every body twice, not five times: [`kick_drift`] does the first half kick and
+//! The step touches every body twice, not five times (once between two steps of a batch): [`kick_drift`] does the first half kick and
 //! the drift and packs the motion the contact loops read ([`BodyMotion`]) in the same pass, and
 //! the closing half kick ([`Kick::apply`]) runs in the pass that sums each body's contact forces
 //! (`step::accumulate`), while they are in registers. Between two steps of one batch

@@ -6,7 +6,8 @@ use std::time::Instant;
 /// Seconds spent in each stage since the world was built.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StageTimes {
-    /// Both half-kicks and the drift (integration of the bodies' motion).
+    /// Both half-kicks and the drift (integration of the bodies' motion); between two steps of a
+    /// batch also the bodies' force sums, which the opening pass completes (`integrate::Closing`).
     pub integrate: f64,
     /// The neighbour search (when the candidate list is made again) and the store's update.
     pub candidates: f64,
@@ -14,7 +15,7 @@ pub struct StageTimes {
     pub regions: f64,
     /// The narrow phase of the other pairs and the contact laws of all.
     pub detect_and_evaluate: f64,
-    /// The sums onto bodies and walls.
+    /// The sums onto walls, and onto bodies at the last step of a batch.
     pub accumulate: f64,
     /// Everything else: end-of-step velocity predictions, walls, flow meters, removals.
     pub other: f64,
