@@ -611,7 +611,8 @@ pub fn accumulate(
 }
 
 /// The loads of the contacts whose partner a body is, from the store: what completes the sums
-/// of its own contacts that [`evaluate`] left, in store order.
+/// of its own contacts that [`evaluate`] left, in the order of the body's incoming index list
+/// (its partners' ids), so the same bits for any thread count and numbering.
 pub struct IncomingSums<'a>(pub &'a ContactStore);
 
 impl ForceSums for IncomingSums<'_> {

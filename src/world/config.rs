@@ -1,4 +1,4 @@
-//! What a world is built from (`World::new`).
+//! What a world is built from (`World::new`), and the parts a world may lack (`World::with_*`).
 
 use super::World;
 use crate::broad_phase;
