@@ -237,6 +237,7 @@ impl History {
 /// twisting springs. Only worlds with rolling friction or polyhedra keep it (a side array of the
 /// contact store), so that a sphere contact carries nothing it does not use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct SpinHistory {
     /// Rolling-resistance torque on body i [N m], and its stiffness of the previous step.
     pub rolling_torque: DVec3,
@@ -246,7 +247,31 @@ pub struct SpinHistory {
     pub twisting_stiffness: f64,
 }
 
+// The layout `SpinHistory::rolling_row` reads and writes: the rolling torque and its stiffness,
+// four `f64` from the start.
+const _: () = {
+    use std::mem::offset_of;
+    assert!(offset_of!(SpinHistory, rolling_torque) == 0);
+    assert!(offset_of!(SpinHistory, rolling_stiffness) == 24);
+};
+
 impl SpinHistory {
+    /// The rolling spring as one row, (torque, stiffness): what the four-wide sphere kernels read
+    /// and write whole (`step::rolling_lanes`).
+    #[inline(always)]
+    pub(crate) fn rolling_row(&self) -> &[f64; 4] {
+        // SAFETY: `SpinHistory` is `repr(C)` and starts with a `DVec3` (three `repr(C)` `f64`)
+        // and an `f64` (asserted above): four `f64` with no padding, aligned as the history.
+        unsafe { &*(self as *const SpinHistory).cast::<[f64; 4]>() }
+    }
+
+    /// [`SpinHistory::rolling_row`] to write.
+    #[inline(always)]
+    pub(crate) fn rolling_row_mut(&mut self) -> &mut [f64; 4] {
+        // SAFETY: as `rolling_row`; the row borrows the history mutably.
+        unsafe { &mut *(self as *mut SpinHistory).cast::<[f64; 4]>() }
+    }
+
     /// Energy held in the rolling and twisting springs (see [`History::stored_energy`]).
     pub fn stored_energy(&self) -> f64 {
         let rolling = if self.rolling_stiffness > 0.0 {

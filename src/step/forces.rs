@@ -346,9 +346,9 @@ impl Sorted {
         ahead: &[ContactKey],
     ) {
         let [mut touching, mut planes, mut ended, mut other] = [0; 4];
-        // In a world of spheres and planes without rolling friction (no geometry kept, no spin
-        // histories), every single-contact entry is a sphere on a plane under the point law.
-        let planes_in_lanes = state.geometry.is_empty() && state.spin.is_empty();
+        // In a world of spheres and planes (no geometry kept), every single-contact entry is a
+        // sphere on a plane under the point law (with rolling resistance if it keeps spins).
+        let planes_in_lanes = state.geometry.is_empty();
         for k in 0..ids.key.len() {
             let key = ids.key[k];
             if let Some(ahead) = ahead.get(k + SORT_PREFETCH_AHEAD) {
@@ -404,39 +404,23 @@ fn evaluate_sorted(
     sorted: &Sorted,
     dt: f64,
 ) {
-    // Touching sphere pairs go through the four-wide kernel in groups of four. Without spin
-    // histories no law of the world has rolling friction.
-    let rolling = !state.spin.is_empty();
-    if rolling {
-        let mut group = sphere_lanes::Group::default();
-        for &k in sorted.touching() {
-            let (k, key) = (k as usize, ids.key[k as usize]);
-            if spheres::law(inputs, key).rolling_friction > 0.0 {
-                spheres::touching_pair(inputs, key, state.entry(k), dt);
-            } else if let Some(four) = group.push(k) {
-                sphere_lanes::touching_pairs(inputs, ids, state, four, dt);
-            }
-        }
-        for &k in group.rest() {
-            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
-        }
-    } else {
-        let mut fours = sorted.touching().chunks_exact(4);
-        for four in &mut fours {
-            let four = std::array::from_fn(|i| four[i] as usize);
-            sphere_lanes::touching_pairs(inputs, ids, state, four, dt);
-        }
-        for &k in fours.remainder() {
-            let k = k as usize;
-            spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
-        }
-        let mut fours = sorted.planes().chunks_exact(4);
-        for four in &mut fours {
-            let four = std::array::from_fn(|i| four[i] as usize);
-            plane_lanes::touching_planes(inputs, ids, state, four, dt);
-        }
-        plane_lanes::touching_planes_rest(inputs, ids, state, fours.remainder(), dt);
+    // Touching sphere pairs, and spheres on planes, go through the four-wide kernels in groups
+    // of four (with rolling resistance in a world that keeps spin histories).
+    let mut fours = sorted.touching().chunks_exact(4);
+    for four in &mut fours {
+        let four = std::array::from_fn(|i| four[i] as usize);
+        sphere_lanes::touching_pairs(inputs, ids, state, four, dt);
     }
+    for &k in fours.remainder() {
+        let k = k as usize;
+        spheres::touching_pair(inputs, ids.key[k], state.entry(k), dt);
+    }
+    let mut fours = sorted.planes().chunks_exact(4);
+    for four in &mut fours {
+        let four = std::array::from_fn(|i| four[i] as usize);
+        plane_lanes::touching_planes(inputs, ids, state, four, dt);
+    }
+    plane_lanes::touching_planes_rest(inputs, ids, state, fours.remainder(), dt);
     for &k in sorted.ended() {
         spheres::apart(state.entry(k as usize));
     }

@@ -23,6 +23,7 @@ pub mod forces;
 pub mod lookahead;
 pub mod plane_lanes;
 pub(crate) mod prefetch;
+mod rolling_lanes;
 pub mod space_order;
 pub mod sphere_lanes;
 pub mod spheres;

@@ -6,8 +6,9 @@
 //! took the general path one by one: about 100 ns each, a twelfth of the settled 10,000-sphere
 //! step. Each lane is the general path's arithmetic, operation for operation and in the same
 //! order, so the bits are the same (a property test below holds them together). Used in worlds of
-//! spheres and planes without rolling friction, where every single-contact entry with a plane
-//! partner is a sphere on a plane and takes the point law.
+//! spheres and planes, where every single-contact entry with a plane partner is a sphere on a
+//! plane and takes the point law (with rolling resistance, `step::rolling_lanes`, where some law
+//! has rolling friction).
 
 use super::forces::LawInputs;
 use super::sphere_lanes::{self, dashpot_limit, Laws, MotionLanes, PointContacts};
@@ -68,7 +69,8 @@ fn one_by_one(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, k: usi
     let g = super::detect::detect_single(inputs.scene, &key, k, state)
         .expect("a sphere–plane entry sorted as touching touches");
     let mut none = crate::contact_law::SpinHistory::default();
-    let history = (&mut state.history[k], &mut none);
+    let spin = state.spin.get_mut(k).unwrap_or(&mut none);
+    let history = (&mut state.history[k], spin);
     let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
     let centre = inputs.motion[key.a as usize].position;
     state.set_load(k, crate::contact::Load::new(&r, g.point, centre, None));
@@ -144,14 +146,17 @@ fn kernel(
         overlap,
         relative,
         relative_end,
+        // The plane does not turn, and ω − 0 is ω to the bit.
+        relative_angular: m.angular_velocity,
         effective_radius: scalars(&|i| bodies.equivalent_radius[a[i]]),
         effective_mass: scalars(&|i| bodies.mass[a[i]]),
         limit,
     };
-    let force = sphere_lanes::point_law(state, entries, &law, &contacts, dt);
-    // Load::new with no partner body: the moment on `a`, and the law's couple (none).
-    let torque_a = arm.cross(force) + V3::zero();
-    sphere_lanes::store_loads(state, entries, force, torque_a, V3::zero());
+    let (force, torque) = sphere_lanes::point_law(state, entries, &law, &contacts, dt);
+    // Load::new with no partner body: the moment on `a` and the law's torque, and for the
+    // wall the law's torque (its rolling resistance; none without rolling friction).
+    let torque_a = arm.cross(force) + torque;
+    sphere_lanes::store_loads(state, entries, force, torque_a, torque);
 }
 
 #[cfg(test)]
@@ -159,11 +164,11 @@ mod tests {
     use super::*;
     use crate::body::{Bodies, BodyInit};
     use crate::contact::{ContactKey, LawReport, OwnLoad, PairKind, PartnerLoad};
-    use crate::contact_law::History;
+    use crate::contact_law::{History, SpinHistory};
     use crate::integrate::BodyMotion;
     use crate::math::{DQuat, DVec3};
     use crate::shape::{Shape, Sphere};
-    use crate::step::sphere_lanes::tests::{tables, vec3};
+    use crate::step::sphere_lanes::tests::{rolls, spin, tables, vec3, TABLES_COUNT};
     use crate::step::Scene;
     use glam::Vec3;
     use proptest::prelude::*;
@@ -181,6 +186,7 @@ mod tests {
         (u32, u32),
         DVec3,
         f64,
+        SpinHistory,
     );
 
     fn case() -> impl Strategy<Value = Case> {
@@ -194,21 +200,22 @@ mod tests {
             (0..2u32, 0..2u32),
             prop_oneof![Just(DVec3::ZERO), vec3(1e-6), vec3(1e-4)],
             prop_oneof![Just(0.0), 1.0..1e4f64],
+            spin(),
         )
     }
 
     proptest! {
         /// The four-wide kernel gives each lane exactly what the general path gives that sphere
         /// on its plane: load, report and history, to the bit, for both normal laws, lanes of
-        /// mixed materials and planes, with and without friction, sticking and sliding, turned
-        /// bodies with unequal inverse inertias.
+        /// mixed materials and planes, with and without friction and rolling friction, sticking
+        /// and sliding, turned bodies with unequal inverse inertias.
         ///
         /// So do one to three entries padded to four (a run's rest, `touching_planes_rest`),
         /// and the entries left out keep what they held.
         #[test]
         fn four_lanes_are_the_general_path_to_the_bit(
             cases in prop::array::uniform4(case()),
-            law in 0..4usize,
+            law in 0..TABLES_COUNT,
             dt in prop_oneof![Just(0.0), 1e-6..1e-4f64],
             step in 1e-6..1e-4f64,
             rest in 1..4usize,
@@ -216,8 +223,11 @@ mod tests {
             let laws = &tables()[law];
             let (mut bodies, mut shapes, mut motion, mut planes) =
                 (Bodies::default(), Vec::new(), Vec::new(), Vec::new());
-            let mut start = Vec::new();
-            for (i, &(r, normal, depth, turn, v, end, (ma, mp), spring, kt)) in cases.iter().enumerate() {
+            let (mut start, mut start_spin) = (Vec::new(), Vec::new());
+            for (i, &(r, normal, depth, turn, v, end, (ma, mp), spring, kt, spin)) in cases.iter().enumerate() {
+                if rolls(law) {
+                    start_spin.push(spin);
+                }
                 let normal = normal.normalize();
                 let point = DVec3::new(0.01, -0.02, 0.03) * (i as f64 + 1.0);
                 let x = point + normal * (r * (1.0 - depth)) + normal.any_orthonormal_vector() * 0.004;
@@ -278,12 +288,13 @@ mod tests {
                 let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
                 let mut own = [OwnLoad::default(); 4];
                 let mut dissipated = [0.0; 4];
+                let mut spin = start_spin.clone();
                 let mut state = EntryState {
                     touching: &mut touching,
                     geometry: &mut [],
                     volume: &mut [],
                     history: &mut history,
-                    spin: &mut [],
+                    spin: &mut spin,
                     load: &mut load,
                     own: &mut own,
                     report: &mut report,
@@ -309,7 +320,7 @@ mod tests {
                         one_by_one(&inputs, &ids, &mut state, k, dt);
                     }
                 }
-                format!("{touching:?} {history:?} {load:?} {own:?} {report:?} {dissipated:?}")
+                format!("{touching:?} {history:?} {spin:?} {load:?} {own:?} {report:?} {dissipated:?}")
             };
             prop_assert_eq!(run(true, 4), run(false, 4));
             prop_assert_eq!(run(true, rest), run(false, rest));

@@ -10,7 +10,8 @@
 //! Each lane is the scalar path's arithmetic, operation for operation and in the same order
 //! (`narrow_phase::overlapping_spheres`, `step::forces::kinematics`,
 //! `contact_law::evaluate_point` with `normal::elastic`, `tangential::tangential_force` and
-//! `book_dampers`, then `Load::new`); branches become lane selects of both sides. So it gives the
+//! `book_dampers`; in a world with rolling friction `contact_law::evaluate`, whose rolling torque
+//! `step::rolling_lanes` adds; then `Load::new`); branches become lane selects of both sides. So it gives the
 //! same bits, which a property test below holds, and results stay the same whichever entries
 //! happen to share a group, for any thread count and on any machine.
 
@@ -22,35 +23,10 @@ use crate::integrate::BodyMotion;
 use crate::math::DVec3;
 use crate::wide::lanes::{each, F4, M4, V3};
 
-/// Entries waiting to go through the kernel together.
-#[derive(Default)]
-pub(crate) struct Group {
-    entries: [usize; 4],
-    len: usize,
-}
-
-impl Group {
-    /// Adds entry `k`; returns the four entries once the group is full (and empties it).
-    #[inline(always)]
-    pub fn push(&mut self, k: usize) -> Option<[usize; 4]> {
-        self.entries[self.len] = k;
-        self.len += 1;
-        (self.len == 4).then(|| {
-            self.len = 0;
-            self.entries
-        })
-    }
-
-    /// The entries left when the run of entries ends.
-    pub fn rest(&self) -> &[usize] {
-        &self.entries[..self.len]
-    }
-}
-
 four_wide_kernel!(
-    /// Contact and response of the four touching sphere pairs `entries` (their partners bodies,
-    /// their laws without rolling friction) over the step `dt`: four at once where the CPU can,
-    /// one by one through the scalar path (the same numbers) where it cannot.
+    /// Contact and response of the four touching sphere pairs `entries` (their partners bodies)
+    /// over the step `dt`: four at once where the CPU can, one by one through the scalar path
+    /// (the same numbers) where it cannot.
     touching_pairs,
     one_by_one
 );
@@ -72,6 +48,7 @@ pub(super) struct Laws {
     tangential_damping_ratio: F4,
     tangential_stiffness_ratio: F4,
     friction: F4,
+    rolling_friction: F4,
 }
 
 impl Laws {
@@ -107,6 +84,7 @@ impl Laws {
             tangential_damping_ratio: lanes(|l| l.tangential_damping_ratio),
             tangential_stiffness_ratio: lanes(|l| l.tangential_stiffness_ratio),
             friction: lanes(|l| l.friction),
+            rolling_friction: lanes(|l| l.rolling_friction),
         }
     }
 }
@@ -159,7 +137,7 @@ impl MotionLanes {
 
 /// As `tangential::rotate_into_plane`, lane by lane.
 #[inline(always)]
-fn rotate_into_plane(v: V3, n: V3) -> V3 {
+pub(super) fn rotate_into_plane(v: V3, n: V3) -> V3 {
     let zero = F4::splat(0.0);
     let length_squared = v.length_squared();
     let projected = v - n.scale(n.dot(v));
@@ -222,6 +200,7 @@ fn kernel(
         overlap,
         relative: va - vb,
         relative_end: va_end - vb_end,
+        relative_angular: a.angular_velocity - b.angular_velocity,
         effective_radius,
         effective_mass,
         limit: [
@@ -229,9 +208,11 @@ fn kernel(
             dashpot_limit(inputs, tangential_mass),
         ],
     };
-    let force = point_law(state, entries, &law, &contacts, dt);
-    let torque_a = arm_a.cross(force) + V3::zero();
-    let torque_b = -(arm_b.cross(force) + V3::zero());
+    let (force, torque) = point_law(state, entries, &law, &contacts, dt);
+    // Load::new: each body's moment of the force, and the law's torque on `a` (its rolling
+    // resistance; none without rolling friction).
+    let torque_a = arm_a.cross(force) + torque;
+    let torque_b = -(arm_b.cross(force) + torque);
     store_loads(state, entries, force, torque_a, torque_b);
 }
 
@@ -252,6 +233,8 @@ pub(super) struct PointContacts {
     /// The contact points' relative velocity over the step and predicted at its end.
     pub relative: V3,
     pub relative_end: V3,
+    /// The bodies' relative angular velocity over the step (the rolling law's).
+    pub relative_angular: V3,
     pub effective_radius: F4,
     pub effective_mass: F4,
     /// The bounds on the normal and tangential dashpots (`contact_law::DashpotLimit`).
@@ -261,7 +244,13 @@ pub(super) struct PointContacts {
 /// The point law (`contact_law::evaluate_point` with `normal::elastic`,
 /// `tangential::tangential_force` and `book_dampers`) of the four touching `entries` over the
 /// step `dt`: writes their histories, reports and touching flags, and returns the force on body
-/// `a` (the caller writes the loads, whose moments depend on the partner).
+/// `a` and the law's torque on it (the caller writes the loads, whose moments depend on the
+/// partner).
+///
+/// In a world that keeps spin histories (one with rolling friction) the law is
+/// `contact_law::evaluate` instead: the same with the rolling resistance
+/// ([`rolling_lanes`](super::rolling_lanes)), whose torque is then the law's (otherwise none) and
+/// whose energies join the sums in `evaluate`'s order.
 #[inline(always)]
 pub(super) fn point_law(
     state: &mut EntryState,
@@ -269,7 +258,7 @@ pub(super) fn point_law(
     law: &Laws,
     c: &PointContacts,
     dt: f64,
-) -> V3 {
+) -> (V3, V3) {
     let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
     let history: [&History; 4] = each(|i| &state.history[entries[i]]);
     let old_spring = V3::gather(|i| history[i].tangential_spring);
@@ -349,10 +338,31 @@ pub(super) fn point_law(
         (work, damper_force, estimate)
     };
 
-    // The response (evaluate_point).
+    // The response (evaluate_point; evaluate, whose twisting and rocking terms are zero for a
+    // point contact: `+ zero` where they are added).
     let force = normal.scale(total) + force_t;
-    let elastic_energy = elastic_energy + elastic_t;
-    let dissipated = damper_work + dissipated_t + zero;
+    let (torque, elastic_energy, dissipated) = if state.spin.is_empty() {
+        let elastic_energy = elastic_energy + elastic_t;
+        (
+            V3::zero(),
+            elastic_energy,
+            damper_work + dissipated_t + zero,
+        )
+    } else {
+        let rolling = super::rolling_lanes::rolling_torque(
+            state,
+            entries,
+            law.rolling_friction,
+            c,
+            (stiffness, total),
+            dt4,
+        );
+        (
+            rolling.torque + V3::zero(),
+            elastic_energy + elastic_t + rolling.elastic_energy + zero,
+            damper_work + dissipated_t + rolling.dissipated + zero + zero,
+        )
+    };
 
     // Each entry's history and report are written whole, row by row: the lanes are turned into
     // rows in registers (the same numbers, so the same bits) and stored 32 bytes at a time,
@@ -379,7 +389,7 @@ pub(super) fn point_law(
             report[i].store2(state.report[k].as_array_mut());
         }
     }
-    force
+    (force, torque)
 }
 
 /// Writes the loads (`Load::new`) of the four `entries`: the force on body `a` and its moment
@@ -424,12 +434,14 @@ pub(super) mod tests {
         (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
     }
 
-    /// Two materials (so lanes mix laws), both normal laws, without and with friction; made
-    /// once, as the restitution's damping is found by integrating a collision.
+    /// Two materials (so lanes mix laws), both normal laws, without and with friction, without
+    /// and with rolling friction (table `k` has it if `k & 4`; then material "b" has none, so
+    /// that the pairs' laws have μ_r 0.05, 0.025 and 0); made once, as the restitution's damping
+    /// is found by integrating a collision.
     pub(in crate::step) fn tables() -> &'static [PairTable] {
         static TABLES: std::sync::OnceLock<Vec<PairTable>> = std::sync::OnceLock::new();
         TABLES.get_or_init(|| {
-            (0..4)
+            (0..TABLES_COUNT)
                 .map(|k| {
                     let material = |name: &str, restitution: f64, friction: f64| Material {
                         name: name.into(),
@@ -438,7 +450,7 @@ pub(super) mod tests {
                         poisson_ratio: 0.25,
                         restitution,
                         friction: if k & 2 != 0 { friction } else { 0.0 },
-                        rolling_friction: 0.0,
+                        rolling_friction: if k & 4 != 0 && name == "a" { 0.05 } else { 0.0 },
                     };
                     let normal = if k & 1 != 0 {
                         NormalLaw::Hertz
@@ -452,8 +464,31 @@ pub(super) mod tests {
         })
     }
 
+    /// How many [`tables`] there are.
+    pub(in crate::step) const TABLES_COUNT: usize = 8;
+
+    /// Whether table `k` has rolling friction: a world that keeps spin histories.
+    pub(in crate::step) fn rolls(k: usize) -> bool {
+        k & 4 != 0
+    }
+
+    /// A rolling spring to start from: none, one the step's turn changes, or one past the
+    /// rolling limit; its stiffness none or some.
+    pub(in crate::step) fn spin() -> impl Strategy<Value = SpinHistory> {
+        (
+            prop_oneof![Just(DVec3::ZERO), vec3(1e-9), vec3(1e-5)],
+            prop_oneof![Just(0.0), 1e-7..1e-4f64],
+        )
+            .prop_map(|(rolling_torque, rolling_stiffness)| SpinHistory {
+                rolling_torque,
+                rolling_stiffness,
+                twisting_torque: 1e-9,
+                twisting_stiffness: 1e-6,
+            })
+    }
+
     /// One pair's setup: radii, direction and overlap, the bodies' motions, the materials, and
-    /// the history it starts from (a spring, a stiffness, a dashpot force).
+    /// the history it starts from (a spring, a stiffness, a dashpot force; a rolling spring).
     type Pair = (
         f64,
         f64,
@@ -464,6 +499,7 @@ pub(super) mod tests {
         (u32, u32),
         DVec3,
         f64,
+        SpinHistory,
     );
 
     fn pair() -> impl Strategy<Value = Pair> {
@@ -478,17 +514,20 @@ pub(super) mod tests {
             // Springs from none to far past the Coulomb limit.
             prop_oneof![Just(DVec3::ZERO), vec3(1e-6), vec3(1e-4)],
             prop_oneof![Just(0.0), 1.0..1e4f64],
+            spin(),
         )
     }
 
     proptest! {
         /// The four-wide kernel gives each lane exactly what the scalar path gives that pair:
         /// load, report and history, to the bit, for both normal laws, lanes of mixed
-        /// materials, with and without friction, sticking and sliding.
+        /// materials, with and without friction, sticking and sliding, and with rolling
+        /// friction (lanes with and without it, springs held and capped) in a world that
+        /// keeps spin histories.
         #[test]
         fn four_lanes_are_the_scalar_path_to_the_bit(
             pairs in prop::array::uniform4(pair()),
-            law in 0..4usize,
+            law in 0..TABLES_COUNT,
             // Histories advance by `dt`; the dashpots are bounded on the world's step, which
             // differs when forces are found between steps (dt = 0).
             dt in prop_oneof![Just(0.0), 1e-6..1e-4f64],
@@ -497,8 +536,11 @@ pub(super) mod tests {
             let inverse_step = 1.0 / step;
             let laws = &tables()[law];
             let (mut bodies, mut shapes, mut motion) = (Bodies::default(), Vec::new(), Vec::new());
-            let mut start = Vec::new();
-            for (p, &(ra, rb, direction, gap, v, end, (ma, mb), spring, kt)) in pairs.iter().enumerate() {
+            let (mut start, mut start_spin) = (Vec::new(), Vec::new());
+            for (p, &(ra, rb, direction, gap, v, end, (ma, mb), spring, kt, spin)) in pairs.iter().enumerate() {
+                if rolls(law) {
+                    start_spin.push(spin);
+                }
                 let xa = DVec3::new(0.01, 0.02, 0.03) * (p as f64 + 1.0);
                 let xb = xa + direction.normalize() * gap * (ra + rb);
                 for (side, (r, x, material)) in [(ra, xa, ma), (rb, xb, mb)].into_iter().enumerate() {
@@ -544,7 +586,7 @@ pub(super) mod tests {
                 let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
                 let mut own = [OwnLoad::default(); 4];
                 let mut dissipated = [0.0; 4];
-                let mut spin: [SpinHistory; 0] = [];
+                let mut spin = start_spin.clone();
                 let mut state = EntryState {
                     touching: &mut touching,
                     geometry: &mut [],
@@ -577,7 +619,7 @@ pub(super) mod tests {
                     }
                 }
                 // Debug prints the shortest string that reads back to the same bits.
-                format!("{touching:?} {history:?} {load:?} {own:?} {report:?} {dissipated:?}")
+                format!("{touching:?} {history:?} {spin:?} {load:?} {own:?} {report:?} {dissipated:?}")
             };
             prop_assert_eq!(run(true), run(false));
         }
