@@ -4,7 +4,8 @@
 //! finds, to the bit, and a world that keeps every other contact's geometry and every report
 //! (here because it has a mesh wall far from the bodies) must run the same bits and report the
 //! same contacts: the same bits but for the normal force, which is found again as F·n and so
-//! agrees to rounding.
+//! agrees to rounding. With and without rolling friction, whose springs' energy is found again
+//! from the spin histories.
 
 mod common;
 
@@ -17,11 +18,14 @@ use polydem::shape::{Shape, Sphere};
 use polydem::wall::generators;
 use polydem::World;
 
+/// Rolling friction of the worlds the tests compare: none, and some.
+const ROLLING_FRICTION: [f64; 2] = [0.0, 0.1];
+
 /// 125 spheres of 1 mm radius thrown into an open box of planes: contacts with each other and
-/// with the floor and the side walls after 4,000 steps. With `far_wall`, a mesh wall 1 m above
-/// them that none reaches.
-fn pour(far_wall: bool) -> World {
-    let material = common::grain(0.0);
+/// with the floor and the side walls after 4,000 steps, under `rolling_friction`. With
+/// `far_wall`, a mesh wall 1 m above them that none reaches.
+fn pour(far_wall: bool, rolling_friction: f64) -> World {
+    let material = common::grain(rolling_friction);
     let (spacing, n) = (2.2e-3, 5usize);
     let width = spacing * n as f64 + 1e-3;
     let mut w = common::open_box_world(material, width, 1e-5, Default::default(), 1);
@@ -67,14 +71,15 @@ fn pour(far_wall: bool) -> World {
     w
 }
 
-/// Each contact as text: key, geometry, load, history and elastic energy (Debug prints the bits).
+/// Each contact as text: key, geometry, load, histories and elastic energy (Debug prints the
+/// bits).
 fn described(w: &World) -> Vec<String> {
     w.contacts()
         .iter()
         .map(|c: ContactRef| {
-            let (key, g, load, history) = (c.key, c.geometry, c.load, c.history);
+            let (key, g, load, history, spin) = (c.key, c.geometry, c.load, c.history, c.spin);
             let energy = c.report.elastic_energy;
-            format!("{key:?} {g:?} {load:?} {history:?} {energy:?}")
+            format!("{key:?} {g:?} {load:?} {history:?} {spin:?} {energy:?}")
         })
         .collect()
 }
@@ -86,7 +91,7 @@ fn normal_forces(w: &World) -> Vec<f64> {
 
 #[test]
 fn sphere_contacts_read_the_narrow_phase_geometry_found_again_from_the_bodies() {
-    let w = pour(false);
+    let w = pour(false, 0.0);
     assert!(
         w.contacts().store().geometry().is_empty(),
         "a world of spheres and planes keeps no contact geometry"
@@ -120,8 +125,23 @@ fn sphere_contacts_read_the_narrow_phase_geometry_found_again_from_the_bodies() 
 
 #[test]
 fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
-    let (lean, kept) = (pour(false), pour(true));
+    for rolling_friction in ROLLING_FRICTION {
+        keeping_the_geometry_changes_no_bit(rolling_friction);
+    }
+}
+
+fn keeping_the_geometry_changes_no_bit(rolling_friction: f64) {
+    let (lean, kept) = (pour(false, rolling_friction), pour(true, rolling_friction));
     assert!(lean.contacts().store().geometry().is_empty());
+    let rolling_springs = lean
+        .contacts()
+        .iter()
+        .filter(|c| c.spin.is_some_and(|s| s.rolling_stiffness > 0.0));
+    assert_eq!(
+        rolling_springs.count() > 100,
+        rolling_friction > 0.0,
+        "rolling springs where there is rolling friction"
+    );
     assert_eq!(
         kept.contacts().store().geometry().len(),
         kept.contacts().entries(),
@@ -138,6 +158,8 @@ fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
     // last place and F_t·n is |F_t| ≤ μ F_n (μ = 0.5 here) times a few, so 1e-14 of F_n holds
     // with room. A contact whose force was cut off at zero reads exactly zero.
     let (lean_forces, kept_forces) = (normal_forces(&lean), normal_forces(&kept));
+    let energy = |w: &World| w.energy().elastic.to_bits();
+    assert_eq!(energy(&lean), energy(&kept), "the ledger's elastic energy");
     assert_eq!(lean_forces.len(), kept_forces.len());
     let mut differ = 0;
     for (k, (&found, &kept)) in lean_forces.iter().zip(&kept_forces).enumerate() {
@@ -159,7 +181,13 @@ fn keeping_the_geometry_changes_no_bit_of_the_run_or_its_contacts() {
 /// `removed`): found again in the lean world, it must be the bits the other world kept.
 #[test]
 fn removed_bodies_carry_out_the_same_contact_energy_whether_reports_are_kept_or_not() {
-    let (mut lean, mut kept) = (pour(false), pour(true));
+    for rolling_friction in ROLLING_FRICTION {
+        removed_bodies_carry_out_the_same_energy(rolling_friction);
+    }
+}
+
+fn removed_bodies_carry_out_the_same_energy(rolling_friction: f64) {
+    let (mut lean, mut kept) = (pour(false, rolling_friction), pour(true, rolling_friction));
     let keep: Vec<bool> = (0..lean.bodies().len()).map(|i| i % 3 != 0).collect();
     let elastic_before = lean.energy().elastic;
     for w in [&mut lean, &mut kept] {

@@ -167,9 +167,9 @@ pub struct StoreLayout {
     /// Rolling and twisting springs (a world with rolling friction or polyhedra).
     pub spins: bool,
     /// The law's report (normal force, elastic energy) of every entry: in a world with
-    /// polyhedra, mesh walls or rolling friction. A world of spheres and planes under point laws
-    /// keeps none (16 bytes an entry): its reports are found again when read, from the geometry,
-    /// the load and the history (`ContactStore::report`).
+    /// polyhedra or mesh walls. A world of spheres and planes (point laws, with or without
+    /// rolling resistance) keeps none (16 bytes an entry): its reports are found again when read,
+    /// from the geometry, the load and the histories (`ContactStore::report`).
     pub reports: bool,
 }
 
@@ -182,7 +182,7 @@ impl StoreLayout {
             geometry: polyhedra || mesh_walls,
             volumes: polyhedra,
             spins: polyhedra || rolling_friction,
-            reports: polyhedra || mesh_walls || rolling_friction,
+            reports: polyhedra || mesh_walls,
         }
     }
 }

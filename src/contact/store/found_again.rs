@@ -53,7 +53,9 @@ impl ContactStore {
     ///
     /// - the elastic energy as the point law sums it: the normal law's at the overlap and R*
     ///   the law used, plus the tangential spring's as the history keeps it (½ k_t |ξ|², the
-    ///   numbers the law wrote): the same bits;
+    ///   numbers the law wrote), plus in a world with rolling friction the rolling spring's
+    ///   (½ |M_r|²/k_r, likewise; a point contact has no twisting spring, so `stored_energy`'s
+    ///   twisting term is the zero the law adds in its place): the same bits;
     /// - the normal force as the load's force along the normal, F·n: the law's F = n F_n + F_t
     ///   with F_t ⊥ n, so F_n to rounding (a few units in the last place). A contact whose normal
     ///   force was cut off at zero has no friction either, F = 0, and reads 0.
@@ -77,9 +79,13 @@ impl ContactStore {
         };
         let law = at.laws.get(b.material[a], material);
         let (_, _, normal_energy, _) = normal::elastic(law, point.overlap, effective_radius);
+        let elastic_energy = normal_energy + self.entries.history[k].stored_energy();
         LawReport {
             normal_force: self.load[k].force.dot(point.normal).max(0.0),
-            elastic_energy: normal_energy + self.entries.history[k].stored_energy(),
+            elastic_energy: match self.entries.spin.get(k) {
+                Some(spin) => elastic_energy + spin.stored_energy(),
+                None => elastic_energy,
+            },
         }
     }
 
