@@ -14,6 +14,8 @@
 # Scenes (bench/*.toml; the peers' inputs are in bench/peers/):
 #   spheres_10k, spheres_65k   LIGGGHTS (bench/peers/liggghts/spheres.in): 10,000 steps of 20 us,
 #                              window steps 5,000-10,000
+#   spheres_10k_rolling        the same with rolling resistance (EPSD2 in both codes; LIGGGHTS
+#                              takes the scene's rolling_friction as `-var rolling`)
 #   cubes_1k                   Yade (bench/peers/yade/cubes.py): the bed settled by polydem
 #                              (10,000 steps of 50 us, untimed) handed over at rest to both
 #                              codes, then 300 steps, window steps 100-300 (Yade: ~2 min)
@@ -95,11 +97,11 @@ run_polydem() { # scene threads steps window_start log settle_steps
     'BEGIN { printf "%.2f %.3e %.3f %d %s\n", t, pss, cpp, wall, (rss == "" ? "-" : rss) }'
 }
 
-run_liggghts() { # data ranks steps window_start log
+run_liggghts() { # data ranks steps window_start log rolling_friction
   local launch=("$LIGGGHTS") loop line
   [ "$2" -gt 1 ] && launch=(mpirun --allow-run-as-root --bind-to none -n "$2" "$LIGGGHTS")
   "${launch[@]}" -in "$LIGGGHTS_IN" -var data "$1" -var settle "$4" -var window "$(($3 - $4))" \
-    -log "$5" -screen none </dev/null || { tail -20 "$5" >&2; return 1; }
+    -var rolling "$6" -log "$5" -screen none </dev/null || { tail -20 "$5" >&2; return 1; }
   # The second "Loop time of T on P procs for S steps with N atoms" is the window's.
   loop=$(grep '^Loop time of' "$5" | sed -n 2p)
   line=$(grep '^LIGGGHTS_RESULT' "$5")
@@ -132,9 +134,12 @@ for scene in $SCENES; do
   case "$scene" in
     spheres_*) peer=LIGGGHTS steps=$SPHERE_STEPS window=$SPHERE_WINDOW settle=0 ;;
     cubes_*) peer=Yade steps=$CUBE_STEPS window=$CUBE_WINDOW settle=$CUBE_SETTLE ;;
-    *) echo "unknown scene '$scene': spheres_10k, spheres_65k or cubes_1k" >&2; exit 1 ;;
+    *) echo "unknown scene '$scene': spheres_10k, spheres_65k, spheres_10k_rolling or cubes_1k" >&2; exit 1 ;;
   esac
   [ -f "bench/$scene.toml" ] || { echo "no bench/$scene.toml" >&2; exit 1; }
+  # The scene's rolling friction, for the peer's input (0 where it has none).
+  rolling=$(sed -n 's/^rolling_friction *= *\([0-9.eE+-]*\).*/\1/p' "bench/$scene.toml" | head -1)
+  rolling=${rolling:-0}
   bodies="$OUT/$scene.bodies"
   echo "$scene: writing the bodies for $peer (settling $settle steps) ..." >&2
   "$POLYDEM" bench initial "bench/$scene.toml" --settle-steps "$settle" --out "$bodies" >&2
@@ -148,7 +153,7 @@ for scene in $SCENES; do
       log="$OUT/${scene}_${peer}_${t}_r$round.log"
       echo "round $round: $scene, $peer on $t ..." >&2
       if [ "$peer" = LIGGGHTS ]; then
-        res=$(run_liggghts "$input" "$t" "$steps" "$window" "$log")
+        res=$(run_liggghts "$input" "$t" "$steps" "$window" "$log" "$rolling")
       else
         res=$(run_yade "$input" "$t" "$steps" "$window" "$log")
       fi

@@ -27,6 +27,19 @@ fn every_benchmark_scene_builds() {
 }
 
 #[test]
+fn the_rolling_bed_is_the_10k_bed_with_rolling_friction() {
+    let (plain, rolling) = (build("spheres_10k.toml"), build("spheres_10k_rolling.toml"));
+    assert_eq!(plain.bodies().position, rolling.bodies().position);
+    assert_eq!(plain.time_step(), rolling.time_step());
+    assert_eq!(plain.pair_laws().get(0, 0).rolling_friction, 0.0);
+    assert_eq!(rolling.pair_laws().get(0, 0).rolling_friction, 0.05);
+    assert_eq!(
+        plain.pair_laws().get(0, 0).friction,
+        rolling.pair_laws().get(0, 0).friction
+    );
+}
+
+#[test]
 fn the_weak_scaling_bed_is_the_65k_bed_twice() {
     let (single, double) = (build("spheres_65k.toml"), build("spheres_130k.toml"));
     assert_eq!(single.bodies().len(), 65_000);
