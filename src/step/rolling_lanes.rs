@@ -1,6 +1,7 @@
 //! Rolling resistance of four point contacts at once: `contact_law::rolling::rolling_torque` (the
-//! EPSD2 spring–dashpot torque) in four lanes, for the four-wide kernels of sphere pairs
-//! (`step::sphere_lanes`) and of spheres on planes (`step::plane_lanes`).
+//! elastic–plastic rolling spring of EPSD2, capped at μ_r R* F_n) in four lanes, for the
+//! four-wide kernels of sphere pairs (`step::sphere_lanes`) and of spheres on planes
+//! (`step::plane_lanes`).
 //!
 //! Without it, every sphere contact of a world with rolling friction took the scalar path, and
 //! such a world ran at half the speed of the same world without (the 10,000-sphere bed: 3.6 M
