@@ -16,6 +16,8 @@
 #                              window steps 5,000-10,000
 #   spheres_10k_rolling        the same with rolling resistance (EPSD2 in both codes; LIGGGHTS
 #                              takes the scene's rolling_friction as `-var rolling`)
+#   spheres_10k_mesh           the 10k bed in the same box given as one triangle mesh (STL);
+#                              LIGGGHTS gets polydem's triangles (mesh/surface, wall/gran mesh)
 #   cubes_1k                   Yade (bench/peers/yade/cubes.py): the bed settled by polydem
 #                              (10,000 steps of 50 us, untimed) handed over at rest to both
 #                              codes, then 300 steps, window steps 100-300 (Yade: ~2 min)
@@ -100,8 +102,10 @@ run_polydem() { # scene threads steps window_start log settle_steps
 run_liggghts() { # data ranks steps window_start log rolling_friction
   local launch=("$LIGGGHTS") loop line
   [ "$2" -gt 1 ] && launch=(mpirun --allow-run-as-root --bind-to none -n "$2" "$LIGGGHTS")
+  # `-screen none` would make LIGGGHTS 3.8 crash reading a mesh (it prints to the screen it has
+  # not got): the screen goes to /dev/null instead.
   "${launch[@]}" -in "$LIGGGHTS_IN" -var data "$1" -var settle "$4" -var window "$(($3 - $4))" \
-    -var rolling "$6" -log "$5" -screen none </dev/null || { tail -20 "$5" >&2; return 1; }
+    -var rolling "$6" -log "$5" -screen /dev/null </dev/null || { tail -20 "$5" >&2; return 1; }
   # The second "Loop time of T on P procs for S steps with N atoms" is the window's.
   loop=$(grep '^Loop time of' "$5" | sed -n 2p)
   line=$(grep '^LIGGGHTS_RESULT' "$5")
@@ -134,7 +138,7 @@ for scene in $SCENES; do
   case "$scene" in
     spheres_*) peer=LIGGGHTS steps=$SPHERE_STEPS window=$SPHERE_WINDOW settle=0 ;;
     cubes_*) peer=Yade steps=$CUBE_STEPS window=$CUBE_WINDOW settle=$CUBE_SETTLE ;;
-    *) echo "unknown scene '$scene': spheres_10k, spheres_65k, spheres_10k_rolling or cubes_1k" >&2; exit 1 ;;
+    *) echo "unknown scene '$scene': spheres_10k, spheres_65k, spheres_10k_rolling, spheres_10k_mesh or cubes_1k" >&2; exit 1 ;;
   esac
   [ -f "bench/$scene.toml" ] || { echo "no bench/$scene.toml" >&2; exit 1; }
   # The scene's rolling friction, for the peer's input (0 where it has none).

@@ -39,6 +39,40 @@ fn the_rolling_bed_is_the_10k_bed_with_rolling_friction() {
     );
 }
 
+/// The mesh bed is the 10k bed with its five planes given as one triangle mesh (from
+/// bench/open_box_60mm.stl, which bench/open_box_stl.py writes): the same bodies, step and
+/// material, and every plane of the box covered by the mesh's triangles, whose normals point
+/// into the box.
+#[test]
+fn the_mesh_bed_is_the_10k_bed_in_a_triangulated_box() {
+    let (plain, mesh) = (build("spheres_10k.toml"), build("spheres_10k_mesh.toml"));
+    assert_eq!(plain.bodies().position, mesh.bodies().position);
+    assert_eq!(plain.time_step(), mesh.time_step());
+    assert_eq!(plain.pair_laws().get(0, 0), mesh.pair_laws().get(0, 0));
+    assert!(mesh.planes().is_empty());
+    let [wall] = mesh.mesh_walls() else {
+        panic!("one mesh wall")
+    };
+    assert_eq!(wall.triangles().len(), 360);
+    for plane in plain.planes() {
+        // The triangles in this plane (the STL's single-precision coordinates are within 2e-9 m
+        // of the plane's), facing the way it faces, cover its 60 mm × 60 mm.
+        let area: f64 = (0..360)
+            .map(|t| wall.corners(t))
+            .filter(|c| {
+                c.iter()
+                    .all(|&v| (v - plane.point).dot(plane.normal).abs() < 2e-9)
+            })
+            .map(|[a, b, c]| {
+                let n = (b - a).cross(c - a);
+                assert!(n.normalize().dot(plane.normal) > 1.0 - 1e-12);
+                0.5 * n.length()
+            })
+            .sum();
+        assert!((area - 0.06 * 0.06).abs() < 1e-9, "{plane:?}: {area}");
+    }
+}
+
 #[test]
 fn the_weak_scaling_bed_is_the_65k_bed_twice() {
     let (single, double) = (build("spheres_65k.toml"), build("spheres_130k.toml"));

@@ -290,27 +290,35 @@ pub fn write_initial_bodies(
     Ok(world.bodies().len())
 }
 
-/// Writes the world's plane walls and bodies, one line each, space-separated, in SI units:
+/// Writes the world's plane walls, mesh walls and bodies, one line each, space-separated, in SI
+/// units:
 ///
 /// - `plane x y z nx ny nz`: a point of the plane and its unit normal (pointing to the bodies)
+/// - `triangle wall ax ay az bx by bz cx cy cz`: a triangle of mesh wall `wall` (numbered from 0)
+///   where it is now, counter-clockwise seen from the bodies
 /// - `sphere x y z radius density`
 /// - `polyhedron x y z density n x1 y1 z1 … xn yn zn`: the centre of mass, the mass density, then
 ///   the n corners in world coordinates (the body is their convex hull).
 ///
 /// Lines starting with `#` are comments. Velocities are not written: the bodies are to start at
-/// rest.
-/// Non-convex bodies are refused.
+/// rest. Non-convex bodies are refused, and so are moving mesh walls (a peer would need their
+/// motion too).
 pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> {
     let b = world.bodies();
     writeln!(
         out,
-        "# polydem bodies: {} bodies, {} planes (SI units)",
+        "# polydem bodies: {} bodies, {} planes, {} mesh walls (SI units)",
         b.len(),
-        world.planes().len()
+        world.planes().len(),
+        world.mesh_walls().len()
     )?;
     writeln!(
         out,
         "# plane x y z nx ny nz (a point and the normal towards the bodies)"
+    )?;
+    writeln!(
+        out,
+        "# triangle wall ax ay az bx by bz cx cy cz (counter-clockwise seen from the bodies)"
     )?;
     writeln!(out, "# sphere x y z radius density")?;
     writeln!(
@@ -320,6 +328,22 @@ pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> 
     for p in world.planes() {
         let (x, n) = (p.point, p.normal);
         writeln!(out, "plane {} {} {} {} {} {}", x.x, x.y, x.z, n.x, n.y, n.z)?;
+    }
+    for (w, wall) in world.mesh_walls().iter().enumerate() {
+        if !wall.motion.is_fixed() {
+            return Err(std::io::Error::other(format!(
+                "mesh wall {w} moves: only fixed mesh walls can be written"
+            )));
+        }
+        let pose = wall.pose();
+        for t in 0..wall.triangles().len() {
+            write!(out, "triangle {w}")?;
+            for corner in wall.corners(t as u32) {
+                let v = pose.to_world(corner);
+                write!(out, " {} {} {}", v.x, v.y, v.z)?;
+            }
+            writeln!(out)?;
+        }
     }
     for i in 0..b.len() {
         let x = b.position[i];
@@ -427,6 +451,75 @@ position = [0.05, 0.0, 0.004999]
         assert_eq!(notes.len(), 3);
         let empty = run(&scene_file(&dir), 0, 10, 10, None, |_| {});
         assert!(empty.unwrap_err().contains("must be below --steps"));
+    }
+
+    /// A sphere over a floor given as a mesh wall of two triangles (`motion`: the wall's, if any).
+    fn mesh_floor_scene(dir: &tempfile::TempDir, motion: &str) -> std::path::PathBuf {
+        let file = dir.path().join("floor.toml");
+        let text = format!(
+            r#"
+[simulation]
+time_step = 1.0e-6
+duration = 1.0e-3
+
+[[material]]
+name = "m"
+density = 2500.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.5
+
+[[mesh_wall]]
+material = "m"
+generator = {{ type = "rectangle", origin = [-0.01, -0.02, 0.0], u = [0.03, 0.0, 0.0], v = [0.0, 0.04, 0.0] }}
+{motion}
+
+[[particle]]
+radius = 0.001
+material = "m"
+position = [0.0, 0.0, 0.002]
+"#
+        );
+        std::fs::write(&file, text).unwrap();
+        file
+    }
+
+    #[test]
+    fn writes_a_fixed_mesh_wall_as_triangles_facing_the_bodies() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("floor.bodies");
+        let scene = mesh_floor_scene(&dir, "");
+        assert_eq!(write_initial_bodies(&scene, 0, None, &out).unwrap(), 1);
+        let text = std::fs::read_to_string(&out).unwrap();
+        let triangles: Vec<Vec<f64>> = text
+            .lines()
+            .filter(|l| l.starts_with("triangle "))
+            .map(|l| {
+                l.split_whitespace()
+                    .skip(1)
+                    .map(|v| v.parse().unwrap())
+                    .collect()
+            })
+            .collect();
+        assert_eq!(triangles.len(), 2);
+        let mut area = 0.0;
+        for t in &triangles {
+            assert_eq!((t.len(), t[0]), (10, 0.0));
+            let corner = |k: usize| DVec3::new(t[1 + 3 * k], t[2 + 3 * k], t[3 + 3 * k]);
+            let (a, b, c) = (corner(0), corner(1), corner(2));
+            assert!([a, b, c].iter().all(|p| p.z == 0.0));
+            // Counter-clockwise seen from the sphere above: the normal points up.
+            let n = (b - a).cross(c - a);
+            assert!(n.z > 0.0, "{t:?}");
+            area += 0.5 * n.length();
+        }
+        assert!((area - 0.03 * 0.04).abs() < 1e-15, "{area}");
+        assert!(text.lines().any(|l| l.starts_with("sphere ")));
+
+        let moving = mesh_floor_scene(&dir, "motion = { velocity = [0.0, 0.0, 0.1] }");
+        let e = write_initial_bodies(&moving, 0, None, &out).unwrap_err();
+        assert!(e.contains("mesh wall 0 moves"), "{e}");
     }
 
     #[test]
