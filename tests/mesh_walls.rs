@@ -166,3 +166,63 @@ velocity = [2.0, -1.5, 1.0]
     assert!(wall_hits > 50, "only {wall_hits} wall contacts seen");
     assert_eq!(w.bodies().len(), 60);
 }
+
+/// A sphere on a mesh wall has four contact slots (`PairKind::SphereOnMesh`): pushed into the
+/// corner of a triangulated box by gravity along the diagonal, it rests on the three walls at
+/// once, each holding the component of its weight along the wall's normal (m g / √3 each,
+/// without friction), as three planes would.
+#[test]
+fn a_sphere_in_a_corner_of_a_mesh_box_rests_on_all_three_walls() {
+    let g = 9.81 / 3f64.sqrt();
+    let text = format!(
+        r#"
+[simulation]
+duration = 0.2
+time_step = 2.0e-6
+gravity = [-{g}, -{g}, -{g}]
+
+[[material]]
+name = "m"
+density = 2500.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+restitution = 0.3
+friction = 0.0
+
+[[mesh_wall]]
+material = "m"
+generator = {{ type = "box", min = [0.0, 0.0, 0.0], max = [0.05, 0.05, 0.05], divisions = 3 }}
+
+[[particle]]
+radius = 0.004
+material = "m"
+position = [0.0045, 0.0045, 0.0045]
+"#
+    );
+    let mut p = polydem::scene::Scene::parse(std::path::Path::new("corner.toml"), text)
+        .unwrap()
+        .build()
+        .unwrap();
+    let w = &mut p.world;
+    w.run_steps((0.2 / w.time_step()) as u64);
+    let contacts: Vec<_> = w.contacts().with_mesh_walls().collect();
+    assert_eq!(contacts.len(), 3, "{contacts:?}");
+    let weight = w.bodies().mass[0] * 9.81;
+    let mut normals: Vec<DVec3> = Vec::new();
+    for c in &contacts {
+        let n = c.geometry.normal;
+        // Along a coordinate axis, into the box.
+        assert!(n.max_element() > 1.0 - 1e-9, "{n}");
+        normals.push(n);
+        let share = c.report.normal_force / (weight / 3f64.sqrt());
+        assert!(
+            (share - 1.0).abs() < 1e-6,
+            "normal force {share} of m g / √3"
+        );
+    }
+    let sum: DVec3 = normals.iter().sum();
+    assert!(
+        (sum - DVec3::ONE).length() < 1e-9,
+        "one contact per wall: {normals:?}"
+    );
+}

@@ -45,20 +45,49 @@ pub enum PairKind {
     Spheres,
     /// Touches in one place at most: convex shapes with each other or with a plane.
     Single,
-    /// May touch in several places at once (a non-convex body, a mesh wall): the pair has
-    /// `MAX_REGIONS` entries, matched to last step's by `contact::assign_regions`.
+    /// May touch in several places at once (a non-convex body, a polyhedron on a mesh wall):
+    /// the pair has `MAX_REGIONS` entries, matched to last step's by `contact::assign_regions`.
     Regional,
+    /// A sphere on a mesh wall: regional as [`PairKind::Regional`], with
+    /// [`SPHERE_MESH_REGIONS`] entries. A sphere touches a mesh once for each nearest point of
+    /// the surface closer than its radius (`narrow_phase::sphere_mesh`): once on a flat or
+    /// smooth surface, twice in a fold, three times in the corner of three walls.
+    SphereOnMesh,
 }
+
+/// The slots of a sphere on a mesh wall ([`PairKind::SphereOnMesh`]): the three of a corner and
+/// one to spare. Half of a polyhedron's eight, for the pair that outnumbers all other regional
+/// pairs in drums, chutes and hoppers: every one of its slots is an entry that each stage passes
+/// over at every step.
+pub const SPHERE_MESH_REGIONS: usize = 4;
 
 impl PairKind {
     /// The kind of a pair of `a` and `partner`, given whether each is a sphere and whether it
     /// may touch in several places (`None` for a wall partner).
     pub fn of(a: ShapeTraits, partner: Partner, b: Option<ShapeTraits>) -> Self {
         match (partner, b) {
+            (Partner::Mesh(_), _) if a.sphere => PairKind::SphereOnMesh,
             (Partner::Mesh(_), _) => PairKind::Regional,
             _ if a.regional || b.is_some_and(|b| b.regional) => PairKind::Regional,
             (Partner::Body(_), Some(b)) if a.sphere && b.sphere => PairKind::Spheres,
             _ => PairKind::Single,
+        }
+    }
+
+    /// Whether the pair may touch in several places, and has a store entry for each
+    /// ([`PairKind::regions`]).
+    #[inline(always)]
+    pub fn is_regional(self) -> bool {
+        matches!(self, PairKind::Regional | PairKind::SphereOnMesh)
+    }
+
+    /// The number of store entries (slots for contact regions) a pair of this kind has.
+    #[inline(always)]
+    pub fn regions(self) -> usize {
+        match self {
+            PairKind::Spheres | PairKind::Single => 1,
+            PairKind::Regional => crate::narrow_phase::MAX_REGIONS,
+            PairKind::SphereOnMesh => SPHERE_MESH_REGIONS,
         }
     }
 }
@@ -94,5 +123,59 @@ impl ContactKey {
     #[inline]
     pub fn order(&self, ids: &[u64]) -> ContactOrder {
         (self.a, self.partner.rank(ids), self.region)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_kind_of_pair_gets_its_slots() {
+        let sphere = ShapeTraits {
+            sphere: true,
+            regional: false,
+        };
+        let convex = ShapeTraits {
+            sphere: false,
+            regional: false,
+        };
+        let jack = ShapeTraits {
+            sphere: false,
+            regional: true,
+        };
+        let mesh = Partner::Mesh(0);
+        let cases = [
+            (sphere, Partner::Body(1), Some(sphere), PairKind::Spheres, 1),
+            (sphere, Partner::Plane(0), None, PairKind::Single, 1),
+            (convex, Partner::Body(1), Some(sphere), PairKind::Single, 1),
+            (
+                sphere,
+                mesh,
+                None,
+                PairKind::SphereOnMesh,
+                SPHERE_MESH_REGIONS,
+            ),
+            (
+                convex,
+                mesh,
+                None,
+                PairKind::Regional,
+                crate::narrow_phase::MAX_REGIONS,
+            ),
+            (
+                jack,
+                mesh,
+                None,
+                PairKind::Regional,
+                crate::narrow_phase::MAX_REGIONS,
+            ),
+            (sphere, Partner::Body(1), Some(jack), PairKind::Regional, 8),
+        ];
+        for (a, partner, b, kind, regions) in cases {
+            assert_eq!(PairKind::of(a, partner, b), kind, "{a:?} {partner:?} {b:?}");
+            assert_eq!(kind.regions(), regions);
+            assert_eq!(kind.is_regional(), regions > 1);
+        }
     }
 }

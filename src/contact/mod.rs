@@ -7,7 +7,7 @@ mod regions;
 mod store;
 mod view;
 
-pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits};
+pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits, SPHERE_MESH_REGIONS};
 pub use load::{LawReport, Load, OwnLoad, PartnerLoad};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
 pub use store::{

@@ -13,29 +13,72 @@
 //!    if every slot was in use, the lowest slot whose contact ended this step (its history is
 //!    dropped, never inherited).
 
-use crate::narrow_phase::Geometry;
+use crate::math::DVec3;
 pub use crate::narrow_phase::MAX_REGIONS;
+use crate::narrow_phase::{ContactPoint, Geometry};
 
 /// Normals of the same contact on consecutive steps differ by less than 60°.
 const SAME_NORMAL_COS: f64 = 0.5;
 
+/// What the rule reads of a contact region: where it is and which way it points. A region is a
+/// [`Geometry`] (with the overlap's volume, for polyhedra) or, for a sphere on a mesh wall, a
+/// [`ContactPoint`]: the rule gives both the same slots.
+pub trait Region: Copy {
+    fn normal(&self) -> DVec3;
+    fn point(&self) -> DVec3;
+}
+
+impl Region for Geometry {
+    #[inline(always)]
+    fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    #[inline(always)]
+    fn point(&self) -> DVec3 {
+        self.point
+    }
+}
+
+impl Region for ContactPoint {
+    #[inline(always)]
+    fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    #[inline(always)]
+    fn point(&self) -> DVec3 {
+        self.point
+    }
+}
+
 /// What the rule gives one slot this step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Assigned {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Assigned<G = Geometry> {
     /// The region in this slot; `None`: the slot is free this step.
-    pub geometry: Option<Geometry>,
+    pub geometry: Option<G>,
     /// The region is a new contact (not last step's region of this slot): it starts with empty
     /// history.
     pub fresh: bool,
 }
 
+impl<G> Default for Assigned<G> {
+    fn default() -> Self {
+        Assigned {
+            geometry: None,
+            fresh: false,
+        }
+    }
+}
+
 /// Assigns the regions `found` (at most [`MAX_REGIONS`] are taken) to the slots of a pair whose
-/// contacts last step were `previous` (by slot; `None` where the slot was free).
-pub fn assign_regions(
-    previous: &[Option<Geometry>],
-    found: &[Geometry],
+/// contacts last step were `previous` (by slot; `None` where the slot was free; as many slots as
+/// `previous` has).
+pub fn assign_regions<G: Region>(
+    previous: &[Option<G>],
+    found: &[G],
     reach: f64,
-) -> [Assigned; MAX_REGIONS] {
+) -> [Assigned<G>; MAX_REGIONS] {
     debug_assert!(previous.len() <= MAX_REGIONS);
     let mut out = [Assigned::default(); MAX_REGIONS];
     let mut claimed = [false; MAX_REGIONS];
@@ -47,8 +90,8 @@ pub fn assign_regions(
             .enumerate()
             .filter(|&(slot, _)| !claimed[slot])
             .filter_map(|(slot, p)| p.map(|p| (slot, p)))
-            .filter(|(_, p)| p.normal.dot(g.normal) > SAME_NORMAL_COS)
-            .map(|(slot, p)| (slot, (p.point - g.point).length()))
+            .filter(|(_, p)| p.normal().dot(g.normal()) > SAME_NORMAL_COS)
+            .map(|(slot, p)| (slot, (p.point() - g.point()).length()))
             .filter(|&(_, d)| d <= reach)
             .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
         match matched {

@@ -12,7 +12,7 @@
 //! Persistent state (key, history) is kept apart from what a step recomputes (touching, geometry,
 //! response).
 
-use super::key::{ContactKey, ContactOrder, PairKind, Partner};
+use super::key::{ContactKey, ContactOrder, PairKind, Partner, SPHERE_MESH_REGIONS};
 use super::load::{LawReport, Load, OwnLoad, PartnerLoad};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
@@ -39,7 +39,8 @@ pub use transfer::{EntryRecord, PartnerId, UnplacedContact};
 pub struct Candidate {
     pub a: u32,
     pub partner: Partner,
-    /// How the narrow phase treats the pair; a regional pair gets [`MAX_REGIONS`] entries.
+    /// How the narrow phase treats the pair; a regional pair gets an entry for each of its
+    /// regions ([`PairKind::regions`]).
     pub kind: PairKind,
 }
 
@@ -49,12 +50,9 @@ impl Candidate {
         (self.a, self.partner.rank(ids), 0)
     }
 
-    /// The number of store entries the candidate gets: [`MAX_REGIONS`] for a regional pair.
+    /// The number of store entries the candidate gets: one per region ([`PairKind::regions`]).
     pub fn entries(&self) -> usize {
-        match self.kind {
-            PairKind::Regional => MAX_REGIONS,
-            _ => 1,
-        }
+        self.kind.regions()
     }
 
     /// The keys of the candidate's entries, with its kind, in the store's order.
@@ -127,8 +125,11 @@ pub struct ContactStore {
     /// Per entry, only in a world with polyhedra (else empty): the overlap volume of polyhedral
     /// contacts under the volume law.
     volume: Vec<Option<OverlapVolume>>,
-    /// First entry of each pair with [`MAX_REGIONS`] entries.
+    /// First entry of each pair with [`MAX_REGIONS`] entries ([`PairKind::Regional`]).
     regional: Vec<u32>,
+    /// First entry of each sphere on a mesh wall ([`PairKind::SphereOnMesh`]).
+    #[serde(default)]
+    spheres_on_mesh: Vec<u32>,
     /// `own[i]..own[i + 1]`: the entries of body `i` as `a`.
     own: Vec<u32>,
     /// `incoming[incoming_first[i]..incoming_first[i + 1]]`: the entries whose partner is body `i`,
@@ -211,15 +212,18 @@ impl ContactStore {
         // The new keys, in order, are made on the fly from the candidates (a list of them would
         // cost 20 bytes an entry at the store's peak).
         self.regional.clear();
+        self.spheres_on_mesh.clear();
         self.first_entry.clear();
         let mut count = 0;
         for c in candidates {
-            if c.kind == PairKind::Regional {
-                self.regional.push(count as u32);
+            match c.kind {
+                PairKind::Regional => self.regional.push(count as u32),
+                PairKind::SphereOnMesh => self.spheres_on_mesh.push(count as u32),
+                PairKind::Spheres | PairKind::Single => {}
             }
             count += c.entries();
         }
-        if !self.regional.is_empty() {
+        if !self.regional.is_empty() || !self.spheres_on_mesh.is_empty() {
             let mut next = 0;
             self.first_entry.extend(candidates.iter().map(|c| {
                 let first = next;
@@ -413,6 +417,7 @@ impl ContactStore {
             self.volume.truncate(kept);
         }
         self.regional.clear();
+        self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
         self.incoming_first.clear();
@@ -494,6 +499,7 @@ impl ContactStore {
             permute_in_place(&mut self.volume, &from, done);
         }
         self.regional.clear();
+        self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
         self.incoming_first.clear();
@@ -535,9 +541,14 @@ impl ContactStore {
         &self.load
     }
 
-    /// First entries of the pairs with [`MAX_REGIONS`] entries.
+    /// First entries of the pairs with [`MAX_REGIONS`] entries ([`PairKind::Regional`]).
     pub fn regional(&self) -> &[u32] {
         &self.regional
+    }
+
+    /// First entries of the spheres on mesh walls ([`PairKind::SphereOnMesh`]).
+    pub fn spheres_on_mesh(&self) -> &[u32] {
+        &self.spheres_on_mesh
     }
 
     /// Entries of body `i` as `a`.
@@ -556,29 +567,61 @@ impl ContactStore {
     }
 
     /// Sets what the pairs with several regions touch this step: `assigned[g]` for the pair whose
-    /// entries start at `regional()[g]`. Returns the energy the dropped histories held (see
-    /// [`ContactStore::set_region`]).
+    /// entries start at `regional()[g]`, `on_mesh[h]` for the sphere whose entries start at
+    /// `spheres_on_mesh()[h]`. Returns the energy the dropped histories held (see
+    /// [`ContactStore::set_region`]), added up in store order whatever the pairs' kinds.
     pub(crate) fn set_regions(
         &mut self,
         assigned: &[[Assigned; MAX_REGIONS]],
+        on_mesh: &[[Assigned<ContactPoint>; SPHERE_MESH_REGIONS]],
         bodies: &Bodies,
     ) -> f64 {
+        debug_assert_eq!(assigned.len(), self.regional.len());
+        debug_assert_eq!(on_mesh.len(), self.spheres_on_mesh.len());
         let mut lost = 0.0;
-        for (g, assigned) in assigned.iter().enumerate() {
-            let first = self.regional[g] as usize;
-            let counts = bodies.counts(self.entries.key[first].a as usize);
-            for (k, a) in assigned.iter().enumerate() {
-                let l = self.set_region(first + k, a.geometry, a.fresh);
-                if counts {
-                    lost += l;
-                }
+        let (mut g, mut h) = (0, 0);
+        while g < assigned.len() || h < on_mesh.len() {
+            let regional_next = h == on_mesh.len()
+                || (g < assigned.len() && self.regional[g] < self.spheres_on_mesh[h]);
+            if regional_next {
+                let slots = assigned[g].map(|a| (a.geometry, a.fresh));
+                self.set_pair(self.regional[g] as usize, &slots, bodies, &mut lost);
+                g += 1;
+            } else {
+                let slots = on_mesh[h].map(|a| (a.geometry.map(|p| p.with_volume(None)), a.fresh));
+                self.set_pair(self.spheres_on_mesh[h] as usize, &slots, bodies, &mut lost);
+                h += 1;
             }
         }
         lost
     }
 
+    /// Sets the regions of the pair whose entries start at `first` (what each slot touches,
+    /// and whether it is a new contact), adding the energy the dropped histories held to `lost`.
+    #[inline(always)]
+    fn set_pair(
+        &mut self,
+        first: usize,
+        slots: &[(Option<Geometry>, bool)],
+        bodies: &Bodies,
+        lost: &mut f64,
+    ) {
+        let counts = bodies.counts(self.entries.key[first].a as usize);
+        for (k, &(geometry, fresh)) in slots.iter().enumerate() {
+            let l = self.set_region(first + k, geometry, fresh);
+            if counts {
+                *lost += l;
+            }
+        }
+    }
+
     /// Sets what entry `e` touches this step; a contact that ends, or whose slot a new contact
     /// takes (`fresh`), drops its history. Returns the energy the dropped history held.
+    ///
+    /// A contact that ends also gives up its load and report here, so that a regional entry
+    /// that does not touch holds what every entry apart holds (no history, a zero load and
+    /// report) before the contact laws run, and they can pass it by: of a mesh wall's eight
+    /// slots for a sphere, one at most touches as a rule.
     pub(crate) fn set_region(&mut self, e: usize, geometry: Option<Geometry>, fresh: bool) -> f64 {
         let x = &mut self.entries;
         let mut lost = 0.0;
@@ -587,6 +630,12 @@ impl ContactStore {
             x.history[e] = History::default();
             if let Some(spin) = x.spin.get_mut(e) {
                 *spin = SpinHistory::default();
+            }
+        }
+        if x.touching[e] && geometry.is_none() {
+            self.load[e] = PartnerLoad::default();
+            if let Some(report) = self.report.get_mut(e) {
+                *report = LawReport::default();
             }
         }
         x.touching[e] = geometry.is_some();
@@ -929,6 +978,82 @@ mod tests {
         assert!(store.incoming(0).is_empty());
         assert_eq!(store.regional(), &[3]);
         assert_eq!(store.wall_entries().len(), 1 + MAX_REGIONS);
+    }
+
+    /// A sphere on a mesh wall has four slots, a polyhedron eight; each kind has its list of
+    /// first entries, and `set_regions` sets both, booking the energy of the histories that
+    /// end in store order whatever the pairs' kinds.
+    #[test]
+    fn regional_pairs_and_spheres_on_meshes_are_set_in_store_order() {
+        let mut store = ContactStore::default();
+        let regional = |a, partner, kind| Candidate { a, partner, kind };
+        let list = [
+            regional(0, Partner::Mesh(0), PairKind::SphereOnMesh),
+            regional(1, Partner::Body(2), PairKind::Regional),
+            regional(1, Partner::Mesh(0), PairKind::Regional),
+            regional(2, Partner::Mesh(0), PairKind::SphereOnMesh),
+        ];
+        store.set_candidates(&list, &numbered(3), kept(true, true));
+        let (four, eight) = (SPHERE_MESH_REGIONS, MAX_REGIONS);
+        assert_eq!(store.entries(), 2 * four + 2 * eight);
+        assert_eq!(
+            store.spheres_on_mesh(),
+            &[0, four as u32 + 2 * eight as u32]
+        );
+        assert_eq!(store.regional(), &[four as u32, (four + eight) as u32]);
+        // Every pair touches in its last slot, with a spring holding 2^53, 1, 1 and 2 J (in
+        // store order): added in another order, the sum rounds otherwise.
+        let lasts = [
+            four - 1,
+            four + eight - 1,
+            four + 2 * eight - 1,
+            2 * four + 2 * eight - 1,
+        ];
+        let springs = [(4.0, 2f64.powi(26)), (2.0, 1.0), (2.0, 1.0), (4.0, 1.0)];
+        for (&e, &(stiffness, spring)) in lasts.iter().zip(&springs) {
+            store.set_region(e, Some(touching_at(0.0)), false);
+            let history = &mut store.entries.history[e];
+            history.tangential_stiffness = stiffness;
+            history.tangential_spring = DVec3::X * spring;
+        }
+        // Next step nothing touches: the energies come back as one sum in store order.
+        let none_polyhedral = vec![[Assigned::default(); MAX_REGIONS]; 2];
+        let none_on_mesh = vec![[Assigned::default(); SPHERE_MESH_REGIONS]; 2];
+        let lost = store.set_regions(&none_polyhedral, &none_on_mesh, &numbered(3));
+        let in_order = ((2f64.powi(53) + 1.0) + 1.0) + 2.0;
+        let kinds_apart = ((2f64.powi(53) + 2.0) + 1.0) + 1.0;
+        assert_ne!(in_order, kinds_apart);
+        assert_eq!(lost.to_bits(), in_order.to_bits());
+        assert!(lasts.iter().all(|&e| !store.touching()[e]));
+    }
+
+    /// Regression (the contact loop passes by regional entries that do not touch): a region
+    /// that ends gives up its load and report when its slot is set free, not when the laws run.
+    /// A non-convex body's stale load would go on pushing its partner (the force sums add every
+    /// incoming load, touching or not).
+    #[test]
+    fn a_region_that_ends_gives_up_its_load_and_report() {
+        let mut store = ContactStore::default();
+        let list = [Candidate {
+            a: 0,
+            partner: Partner::Body(1),
+            kind: PairKind::Regional,
+        }];
+        store.set_candidates(&list, &numbered(2), kept(true, false));
+        store.set_region(2, Some(touching_at(0.0)), true);
+        store.load[2].force = DVec3::X;
+        store.load[2].torque_b = DVec3::Y;
+        store.report[2] = LawReport {
+            normal_force: 1.0,
+            elastic_energy: 2.0,
+        };
+        // Still touching: what the laws wrote stays until they write again.
+        store.set_region(2, Some(touching_at(1e-6)), false);
+        assert_eq!(store.load[2].force, DVec3::X);
+        store.set_region(2, None, false);
+        assert_eq!(store.load[2], PartnerLoad::default());
+        assert_eq!(store.report[2], LawReport::default());
+        assert!(!store.touching()[2]);
     }
 
     /// A store whose body pairs are seen from the lower index (as checkpoints of older versions

@@ -70,6 +70,17 @@ impl ContactPoint {
             volume,
         }
     }
+
+    /// The same contact seen after the rigid motion `pose` (found on a moving wall in its
+    /// reference placement, brought to the world). Identity poses leave it bit for bit.
+    pub fn moved(mut self, pose: &WallPose) -> Self {
+        if pose.is_identity() {
+            return self;
+        }
+        self.normal = pose.rotation * self.normal;
+        self.point = pose.to_world(self.point);
+        self
+    }
 }
 
 impl Geometry {
@@ -87,8 +98,8 @@ impl Geometry {
         if pose.is_identity() {
             return self;
         }
-        self.normal = pose.rotation * self.normal;
-        self.point = pose.to_world(self.point);
+        let moved = self.contact_point().moved(pose);
+        (self.normal, self.point) = (moved.normal, moved.point);
         if let Some(v) = &mut self.volume {
             v.couple = pose.rotation * v.couple;
         }

@@ -6,6 +6,7 @@
 use crate::body::Bodies;
 use crate::contact::{
     assign_regions, Assigned, ContactKey, ContactStore, EntryState, Partner, MAX_REGIONS,
+    SPHERE_MESH_REGIONS,
 };
 use crate::contact_law::PolyhedralLaw;
 use crate::math::Aabb;
@@ -28,6 +29,7 @@ struct Scratch {
     mesh_contacts: Vec<MeshContact>,
     convex_mesh: ConvexMeshScratch,
     found: Vec<Geometry>,
+    points: Vec<ContactPoint>,
 }
 
 thread_local! {
@@ -62,6 +64,7 @@ impl<'a> Scene<'a> {
 #[derive(Default)]
 pub struct RegionOutput {
     assigned: Vec<[Assigned; MAX_REGIONS]>,
+    on_mesh: Vec<[Assigned<ContactPoint>; SPHERE_MESH_REGIONS]>,
 }
 
 /// The geometry of every pair that may touch in several places, matched to last step's regions.
@@ -85,7 +88,24 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
             })
         })
         .collect_into_vec(&mut regions.assigned);
-    store.set_regions(&regions.assigned, scene.bodies)
+    // Spheres on mesh walls, the most numerous regional pairs: the same rule on contact points
+    // alone (a sphere's contacts have no volume), four slots, and only what a sphere needs read.
+    store
+        .spheres_on_mesh()
+        .par_iter()
+        .with_min_len(16)
+        .map(|&first| {
+            let first = first as usize;
+            let previous: [Option<ContactPoint>; SPHERE_MESH_REGIONS] =
+                std::array::from_fn(|k| touching[first + k].then(|| geometry[first + k]));
+            SCRATCH.with_borrow_mut(|s| {
+                let (found, reach) = sphere_on_mesh(scene, &keys[first], s);
+                let assigned = assign_regions(&previous, found, reach);
+                std::array::from_fn(|k| assigned[k])
+            })
+        })
+        .collect_into_vec(&mut regions.on_mesh);
+    store.set_regions(&regions.assigned, &regions.on_mesh, scene.bodies)
 }
 
 /// The narrow phase of entry `k`, a pair that touches in one place at most (regional entries are
@@ -158,6 +178,40 @@ fn several<'s>(scene: Scene, key: &ContactKey, s: &'s mut Scratch) -> (&'s [Geom
         }
     };
     (&s.found, reach)
+}
+
+/// The contacts of the sphere of `key.a` with mesh wall `key.partner`, as [`mesh_contacts`]
+/// finds them, and how far one may move in a step and still be the same contact (as
+/// [`several`]).
+fn sphere_on_mesh<'s>(
+    scene: Scene,
+    key: &ContactKey,
+    s: &'s mut Scratch,
+) -> (&'s [ContactPoint], f64) {
+    let a = key.a as usize;
+    let (Partner::Mesh(w), Shape::Sphere(sphere)) = (key.partner, scene.shape(key.a)) else {
+        unreachable!("a sphere-on-mesh entry is a sphere and a mesh wall")
+    };
+    let wall = &scene.walls[w as usize];
+    let pose = wall.pose();
+    let x = pose.to_reference(scene.bodies.position[a]);
+    s.points.clear();
+    if wall
+        .bounds()
+        .overlaps(&Aabb::around_sphere(x, sphere.radius))
+    {
+        narrow_phase::sphere_mesh_contacts(
+            x,
+            sphere.radius,
+            wall,
+            &mut s.mesh,
+            &mut s.mesh_contacts,
+        );
+        let found = s.mesh_contacts.iter();
+        s.points
+            .extend(found.map(|c| c.geometry.contact_point().moved(&pose)));
+    }
+    (&s.points, 0.5 * scene.bodies.equivalent_radius[a])
 }
 
 /// A body's contacts with a mesh wall, into `s.found`. A moving wall is searched in its reference

@@ -371,8 +371,10 @@ impl Sorted {
                 self.ended[ended] = k as u32;
                 ended += (!touches & state.touching[k]) as usize;
             } else {
+                // A regional entry that does not touch was left as an entry apart is left (see
+                // `ContactStore::set_region`): nothing to do.
                 self.other[other] = k as u32;
-                other += 1;
+                other += (!kind.is_regional() || state.touching[k]) as usize;
             }
         }
         self.lengths = [touching, planes, ended, other];

@@ -33,7 +33,10 @@ pub struct WallLoads {
     pub work: f64,
     /// Power of the wall forces at the last evaluation (for the trapezoidal work integral).
     power: f64,
-    /// Each wall entry's share of this step (working memory of [`WallLoads::book`]).
+    /// The wall entries that touch, and each one's share of this step (working memory of
+    /// [`WallLoads::book`]).
+    #[serde(skip)]
+    touching: Vec<u32>,
     #[serde(skip)]
     shares: Vec<Share>,
 }
@@ -65,7 +68,14 @@ impl WallLoads {
         let count = at.planes.len() + walls.meshes.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
-        let entries = store.wall_entries();
+        // Most wall entries do not touch (a sphere near a mesh wall has eight slots, one of
+        // which touches as a rule): their flags are read once, in order, and only the entries
+        // that touch are worked out (the same shares in the same order).
+        let flags = store.touching();
+        self.touching.clear();
+        self.touching
+            .extend(store.wall_entries().iter().filter(|&&e| flags[e as usize]));
+        let entries = &self.touching;
         entries
             .par_iter()
             .enumerate()
@@ -76,7 +86,6 @@ impl WallLoads {
                 // 65,000-sphere step went to waiting for them).
                 if let Some(&ahead) = entries.get(n + PREFETCH_AHEAD) {
                     let ahead = ahead as usize;
-                    prefetch(&store.touching()[ahead]);
                     prefetch(&store.keys()[ahead]);
                     prefetch(&store.loads()[ahead]);
                 }
