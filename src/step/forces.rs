@@ -18,6 +18,7 @@ use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
 use crate::step::detect;
 use crate::step::lookahead::{Lookahead, Moves};
+use crate::step::mesh_lanes;
 use crate::step::plane_lanes;
 use crate::step::prefetch::prefetch;
 use crate::step::sphere_lanes;
@@ -308,16 +309,19 @@ impl OwnSums<'_> {
 const RUN: usize = crate::contact::CHUNK_ENTRIES;
 
 /// A run's entries sorted by what they need: sphere pairs that touch, spheres that touch a plane
-/// (in worlds where they take the four-wide path, see [`plane_lanes`]), those of either kind that
-/// touched and no longer do, and the others (those that stay apart need nothing). Whether a
-/// candidate touches is a coin toss, so the sort is done without a branch on it: every entry is
-/// written at the end of each list, and the list's length grows by one where it belongs there.
+/// (in worlds where they take the four-wide path, see [`plane_lanes`]), spheres that touch a mesh
+/// wall ([`mesh_lanes`]), sphere pairs and spheres on planes that touched and no longer do, and
+/// the others (those that stay apart need nothing, nor do the regions that do not touch, see
+/// `ContactStore::set_region`). Whether a candidate touches is a coin toss, so the sort is done
+/// without a branch on it: every entry is written at the end of each list, and the list's
+/// length grows by one where it belongs there.
 struct Sorted {
     touching: [u32; RUN],
     planes: [u32; RUN],
+    meshes: [u32; RUN],
     ended: [u32; RUN],
     other: [u32; RUN],
-    lengths: [usize; 4],
+    lengths: [usize; 5],
 }
 
 impl Default for Sorted {
@@ -325,9 +329,10 @@ impl Default for Sorted {
         Sorted {
             touching: [0; RUN],
             planes: [0; RUN],
+            meshes: [0; RUN],
             ended: [0; RUN],
             other: [0; RUN],
-            lengths: [0; 4],
+            lengths: [0; 5],
         }
     }
 }
@@ -345,7 +350,7 @@ impl Sorted {
         state: &EntryState,
         ahead: &[ContactKey],
     ) {
-        let [mut touching, mut planes, mut ended, mut other] = [0; 4];
+        let [mut touching, mut planes, mut meshes, mut ended, mut other] = [0; 5];
         // In a world of spheres and planes (no geometry kept), every single-contact entry is a
         // sphere on a plane under the point law (with rolling resistance if it keeps spins).
         let planes_in_lanes = state.geometry.is_empty();
@@ -373,11 +378,14 @@ impl Sorted {
             } else {
                 // A regional entry that does not touch was left as an entry apart is left (see
                 // `ContactStore::set_region`): nothing to do.
+                let on_mesh = kind == PairKind::SphereOnMesh;
+                self.meshes[meshes] = k as u32;
+                meshes += (on_mesh & state.touching[k]) as usize;
                 self.other[other] = k as u32;
-                other += (!kind.is_regional() || state.touching[k]) as usize;
+                other += (!on_mesh & (!kind.is_regional() | state.touching[k])) as usize;
             }
         }
-        self.lengths = [touching, planes, ended, other];
+        self.lengths = [touching, planes, meshes, ended, other];
     }
 
     fn touching(&self) -> &[u32] {
@@ -388,12 +396,16 @@ impl Sorted {
         &self.planes[..self.lengths[1]]
     }
 
+    fn meshes(&self) -> &[u32] {
+        &self.meshes[..self.lengths[2]]
+    }
+
     fn ended(&self) -> &[u32] {
-        &self.ended[..self.lengths[2]]
+        &self.ended[..self.lengths[3]]
     }
 
     fn other(&self) -> &[u32] {
-        &self.other[..self.lengths[3]]
+        &self.other[..self.lengths[4]]
     }
 }
 
@@ -423,6 +435,12 @@ fn evaluate_sorted(
         plane_lanes::touching_planes(inputs, ids, state, four, dt);
     }
     plane_lanes::touching_planes_rest(inputs, ids, state, fours.remainder(), dt);
+    let mut fours = sorted.meshes().chunks_exact(4);
+    for four in &mut fours {
+        let four = std::array::from_fn(|i| four[i] as usize);
+        mesh_lanes::touching_meshes(inputs, ids, state, four, dt);
+    }
+    mesh_lanes::touching_meshes_rest(inputs, ids, state, fours.remainder(), dt);
     for &k in sorted.ended() {
         spheres::apart(state.entry(k as usize));
     }

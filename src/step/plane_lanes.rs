@@ -92,23 +92,74 @@ fn kernel(
     let a: [usize; 4] = each(|i| ids.key[entries[i]].a as usize);
     let planes: [&Plane; 4] = each(|i| plane(inputs, ids.key[entries[i]].partner));
     let m = MotionLanes::gather(each(|i| &inputs.motion[a[i]]));
-    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
     let law = Laws::gather(each(|i| {
         inputs.laws.get(bodies.material[a[i]], planes[i].material)
     }));
     let normal = V3::gather(|i| planes[i].normal);
-    let (zero, half) = (F4::splat(0.0), F4::splat(0.5));
+    let half = F4::splat(0.5);
 
     // The narrow phase (narrow_phase::touching_sphere_plane).
     let x = m.position;
     let overlap = m.radius - (x - V3::gather(|i| planes[i].point)).dot(normal);
     let point = x - normal.scale(m.radius - half * overlap);
+    let contact = WallContact {
+        normal,
+        overlap,
+        point,
+        // The plane does not move: v − 0 and ω − 0 are v and ω to the bit.
+        motion: None,
+    };
+    wall_law(inputs, state, entries, a, &m, &law, &contact, dt);
+}
 
-    // The contact point's velocity over the step and at its end (LawInputs::point_velocity); the
-    // plane's are zero, and v − 0 is v to the bit.
+/// The contact of four spheres with their walls, and how the walls move at the contact points.
+pub(super) struct WallContact {
+    pub normal: V3,
+    pub overlap: F4,
+    pub point: V3,
+    /// The walls' velocities at the points over the step and at its end, and their angular
+    /// velocities; `None` for walls at rest.
+    pub motion: Option<[V3; 3]>,
+}
+
+/// The response of four spheres (bodies `a`, motions `m`, laws `law`) to their walls at
+/// `contact`, into entries `entries`: `LawInputs::respond` for a wall partner,
+/// `contact_law::evaluate_point` (or `evaluate` with rolling resistance) and `Load::new` with no
+/// partner body, lane by lane, operation for operation.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn wall_law(
+    inputs: &LawInputs,
+    state: &mut EntryState,
+    entries: [usize; 4],
+    a: [usize; 4],
+    m: &MotionLanes,
+    law: &Laws,
+    contact: &WallContact,
+    dt: f64,
+) {
+    let bodies = inputs.scene.bodies;
+    let scalars = |f: &dyn Fn(usize) -> f64| F4::new(each(f));
+    let WallContact {
+        normal,
+        overlap,
+        point,
+        motion,
+    } = *contact;
+    let zero = F4::splat(0.0);
+    let x = m.position;
+
+    // The contact point's velocity over the step and at its end (LawInputs::point_velocity),
+    // less the wall's.
     let arm = point - x;
-    let relative = m.velocity + m.angular_velocity.cross(arm);
-    let relative_end = m.velocity_end + m.angular_velocity_end.cross(arm);
+    let mut relative = m.velocity + m.angular_velocity.cross(arm);
+    let mut relative_end = m.velocity_end + m.angular_velocity_end.cross(arm);
+    let mut relative_angular = m.angular_velocity;
+    if let Some([wall, wall_end, wall_spin]) = motion {
+        relative = relative - wall;
+        relative_end = relative_end - wall_end;
+        relative_angular = relative_angular - wall_spin;
+    }
 
     // The masses a push along the normal and along the worst tangent move (forces::dashpot_mass
     // for one body): (r × n)·I⁻¹(r × n) with r × n turned into the body's frame by the inverse
@@ -146,13 +197,12 @@ fn kernel(
         overlap,
         relative,
         relative_end,
-        // The plane does not turn, and ω − 0 is ω to the bit.
-        relative_angular: m.angular_velocity,
+        relative_angular,
         effective_radius: scalars(&|i| bodies.equivalent_radius[a[i]]),
         effective_mass: scalars(&|i| bodies.mass[a[i]]),
         limit,
     };
-    let (force, torque) = sphere_lanes::point_law(state, entries, &law, &contacts, dt);
+    let (force, torque) = sphere_lanes::point_law(state, entries, law, &contacts, dt);
     // Load::new with no partner body: the moment on `a` and the law's torque, and for the
     // wall the law's torque (its rolling resistance; none without rolling friction).
     let torque_a = arm.cross(force) + torque;
