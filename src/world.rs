@@ -274,7 +274,8 @@ impl World {
             walls: &self.mesh_walls,
             law: self.polyhedral_law,
         };
-        self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions);
+        let skin = self.search.skin();
+        self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions, skin);
         clock.lap(&mut self.times.regions);
         let laws = LawInputs {
             scene,

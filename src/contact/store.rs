@@ -130,6 +130,10 @@ pub struct ContactStore {
     /// First entry of each sphere on a mesh wall ([`PairKind::SphereOnMesh`]).
     #[serde(default)]
     spheres_on_mesh: Vec<u32>,
+    /// Which list of candidates the store holds: a number no other list in the process has,
+    /// 0 for none yet (see [`ContactStore::list_id`]).
+    #[serde(skip, default = "new_list_id")]
+    list_id: u64,
     /// `own[i]..own[i + 1]`: the entries of body `i` as `a`.
     own: Vec<u32>,
     /// `incoming[incoming_first[i]..incoming_first[i + 1]]`: the entries whose partner is body `i`,
@@ -188,6 +192,12 @@ impl StoreLayout {
     }
 }
 
+/// A list number no store in the process has had (see [`ContactStore::list_id`]).
+fn new_list_id() -> u64 {
+    static LISTS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    LISTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
 impl ContactStore {
     /// Makes `candidates` (sorted by `(a, partner)`, each once) the entries, carrying every
     /// continuing entry's state over. Returns the energy the history springs of touching contacts
@@ -213,6 +223,7 @@ impl ContactStore {
         // cost 20 bytes an entry at the store's peak).
         self.regional.clear();
         self.spheres_on_mesh.clear();
+        self.list_id = new_list_id();
         self.first_entry.clear();
         let mut count = 0;
         for c in candidates {
@@ -549,6 +560,14 @@ impl ContactStore {
     /// First entries of the spheres on mesh walls ([`PairKind::SphereOnMesh`]).
     pub fn spheres_on_mesh(&self) -> &[u32] {
         &self.spheres_on_mesh
+    }
+
+    /// A number that names the list of candidates the store holds, new with every list (and
+    /// for a store read from a checkpoint), no two alike in the process; 0 before the first.
+    /// What is worked out once per list and kept beside the store (the triangles near each
+    /// sphere on a mesh wall, `step::detect`) tells by it when it is stale.
+    pub fn list_id(&self) -> u64 {
+        self.list_id
     }
 
     /// Entries of body `i` as `a`.

@@ -9,7 +9,7 @@ use crate::contact::{
     SPHERE_MESH_REGIONS,
 };
 use crate::contact_law::PolyhedralLaw;
-use crate::math::Aabb;
+use crate::math::{Aabb, DVec3};
 use crate::narrow_phase::{
     self, ClipScratch, ContactPoint, ConvexMeshScratch, Geometry, MeshContact, MeshScratch, Posed,
     RegionScratch,
@@ -60,17 +60,89 @@ impl<'a> Scene<'a> {
     }
 }
 
-/// Regions matched to their slots, per pair with several entries (reused from step to step).
+/// Regions matched to their slots, per pair with several entries (reused from step to step),
+/// and the triangles each sphere on a mesh wall may touch while the neighbour list lasts.
 #[derive(Default)]
 pub struct RegionOutput {
     assigned: Vec<[Assigned; MAX_REGIONS]>,
     on_mesh: Vec<[Assigned<ContactPoint>; SPHERE_MESH_REGIONS]>,
+    near: NearTriangles,
+}
+
+/// The triangles near each sphere on a mesh wall (`near[first[h]..first[h + 1]]` for the
+/// sphere whose entries start at the store's `spheres_on_mesh()[h]`), made for the store's list
+/// `list` (`ContactStore::list_id`) and the skin `skin`.
+#[derive(Default)]
+struct NearTriangles {
+    list: u64,
+    skin: f64,
+    first: Vec<u32>,
+    near: Vec<u32>,
+}
+
+impl NearTriangles {
+    /// Makes the lists again if the store holds another list of candidates than they were made
+    /// for. A list stays while no body has moved more than half the skin since it was made, nor
+    /// any wall (`candidates::NeighbourSearch`): a sphere then stays within a skin of where it
+    /// was, in its wall's placement, and within two skins of where it is now, whenever within
+    /// the list's life this is done (right after the list is made, or after a restart). So the
+    /// triangles whose boxes come within the radius and two skins of it hold every triangle it
+    /// can reach before the next list.
+    fn update(&mut self, scene: Scene, store: &ContactStore, skin: f64) {
+        if self.list == store.list_id() && store.list_id() != 0 && self.skin == skin {
+            return;
+        }
+        let keys = store.keys();
+        let lists: Vec<Vec<u32>> = store
+            .spheres_on_mesh()
+            .par_iter()
+            .with_min_len(64)
+            .map(|&first| {
+                let (x, r, wall) = sphere_and_wall(scene, &keys[first as usize]);
+                let mut near = Vec::new();
+                wall.triangles_near(&Aabb::around_sphere(x, r + 2.0 * skin), &mut near);
+                near
+            })
+            .collect();
+        self.first.clear();
+        self.near.clear();
+        for list in &lists {
+            self.first.push(self.near.len() as u32);
+            self.near.extend_from_slice(list);
+        }
+        self.first.push(self.near.len() as u32);
+        (self.list, self.skin) = (store.list_id(), skin);
+    }
+
+    /// The triangles near the `h`-th sphere on a mesh wall.
+    fn of(&self, h: usize) -> &[u32] {
+        &self.near[self.first[h] as usize..self.first[h + 1] as usize]
+    }
+}
+
+/// The sphere of a sphere-on-mesh entry `key`: its centre in its wall's reference placement, its
+/// radius, and the wall.
+#[inline]
+fn sphere_and_wall<'a>(scene: Scene<'a>, key: &ContactKey) -> (DVec3, f64, &'a MeshWall) {
+    let (Partner::Mesh(w), Shape::Sphere(sphere)) = (key.partner, scene.shape(key.a)) else {
+        unreachable!("a sphere-on-mesh entry is a sphere and a mesh wall")
+    };
+    let wall = &scene.walls[w as usize];
+    let x = wall
+        .pose()
+        .to_reference(scene.bodies.position[key.a as usize]);
+    (x, sphere.radius, wall)
 }
 
 /// The geometry of every pair that may touch in several places, matched to last step's regions.
 /// Returns the energy held by the history of region contacts that ended or gave their slot to a
-/// new contact (dissipated).
-pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut RegionOutput) -> f64 {
+/// new contact (dissipated). `skin`: the neighbour search's (see [`NearTriangles::update`]).
+pub fn detect_regions(
+    scene: Scene,
+    store: &mut ContactStore,
+    regions: &mut RegionOutput,
+    skin: f64,
+) -> f64 {
     let (touching, geometry) = (store.touching(), store.geometry());
     let keys = store.keys();
     store
@@ -89,17 +161,21 @@ pub fn detect_regions(scene: Scene, store: &mut ContactStore, regions: &mut Regi
         })
         .collect_into_vec(&mut regions.assigned);
     // Spheres on mesh walls, the most numerous regional pairs: the same rule on contact points
-    // alone (a sphere's contacts have no volume), four slots, and only what a sphere needs read.
+    // alone (a sphere's contacts have no volume), four slots, only what a sphere needs read, and
+    // the triangles near it listed once per neighbour list.
+    regions.near.update(scene, store, skin);
+    let near = &regions.near;
     store
         .spheres_on_mesh()
         .par_iter()
+        .enumerate()
         .with_min_len(16)
-        .map(|&first| {
+        .map(|(h, &first)| {
             let first = first as usize;
             let previous: [Option<ContactPoint>; SPHERE_MESH_REGIONS] =
                 std::array::from_fn(|k| touching[first + k].then(|| geometry[first + k]));
             SCRATCH.with_borrow_mut(|s| {
-                let (found, reach) = sphere_on_mesh(scene, &keys[first], s);
+                let (found, reach) = sphere_on_mesh(scene, &keys[first], near.of(h), s);
                 let assigned = assign_regions(&previous, found, reach);
                 std::array::from_fn(|k| assigned[k])
             })
@@ -181,37 +257,28 @@ fn several<'s>(scene: Scene, key: &ContactKey, s: &'s mut Scratch) -> (&'s [Geom
 }
 
 /// The contacts of the sphere of `key.a` with mesh wall `key.partner`, as [`mesh_contacts`]
-/// finds them, and how far one may move in a step and still be the same contact (as
-/// [`several`]).
+/// finds them, among the triangles `near` ([`NearTriangles`]), and how far one may move in a
+/// step and still be the same contact (as [`several`]).
 fn sphere_on_mesh<'s>(
     scene: Scene,
     key: &ContactKey,
+    near: &[u32],
     s: &'s mut Scratch,
 ) -> (&'s [ContactPoint], f64) {
-    let a = key.a as usize;
-    let (Partner::Mesh(w), Shape::Sphere(sphere)) = (key.partner, scene.shape(key.a)) else {
-        unreachable!("a sphere-on-mesh entry is a sphere and a mesh wall")
-    };
-    let wall = &scene.walls[w as usize];
-    let pose = wall.pose();
-    let x = pose.to_reference(scene.bodies.position[a]);
+    let (x, r, wall) = sphere_and_wall(scene, key);
     s.points.clear();
-    if wall
-        .bounds()
-        .overlaps(&Aabb::around_sphere(x, sphere.radius))
-    {
-        narrow_phase::sphere_mesh_contacts(
-            x,
-            sphere.radius,
-            wall,
-            &mut s.mesh,
-            &mut s.mesh_contacts,
-        );
+    if wall.bounds().overlaps(&Aabb::around_sphere(x, r)) {
+        let (scratch, contacts) = (&mut s.mesh, &mut s.mesh_contacts);
+        narrow_phase::sphere_mesh_contacts_among(x, r, wall, near, scratch, contacts);
+        let pose = wall.pose();
         let found = s.mesh_contacts.iter();
         s.points
             .extend(found.map(|c| c.geometry.contact_point().moved(&pose)));
     }
-    (&s.points, 0.5 * scene.bodies.equivalent_radius[a])
+    (
+        &s.points,
+        0.5 * scene.bodies.equivalent_radius[key.a as usize],
+    )
 }
 
 /// A body's contacts with a mesh wall, into `s.found`. A moving wall is searched in its reference
