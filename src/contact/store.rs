@@ -603,35 +603,28 @@ impl ContactStore {
             let regional_next = h == on_mesh.len()
                 || (g < assigned.len() && self.regional[g] < self.spheres_on_mesh[h]);
             if regional_next {
-                let slots = assigned[g].map(|a| (a.geometry, a.fresh));
-                self.set_pair(self.regional[g] as usize, &slots, bodies, &mut lost);
+                let first = self.regional[g] as usize;
+                let counts = bodies.counts(self.entries.key[first].a as usize);
+                for (k, a) in assigned[g].iter().enumerate() {
+                    let l = self.set_region(first + k, a.geometry, a.fresh);
+                    if counts {
+                        lost += l;
+                    }
+                }
                 g += 1;
             } else {
-                let slots = on_mesh[h].map(|a| (a.geometry.map(|p| p.with_volume(None)), a.fresh));
-                self.set_pair(self.spheres_on_mesh[h] as usize, &slots, bodies, &mut lost);
+                let first = self.spheres_on_mesh[h] as usize;
+                let counts = bodies.counts(self.entries.key[first].a as usize);
+                for (k, a) in on_mesh[h].iter().enumerate() {
+                    let l = self.set_slot(first + k, a.geometry, None, a.fresh);
+                    if counts {
+                        lost += l;
+                    }
+                }
                 h += 1;
             }
         }
         lost
-    }
-
-    /// Sets the regions of the pair whose entries start at `first` (what each slot touches,
-    /// and whether it is a new contact), adding the energy the dropped histories held to `lost`.
-    #[inline(always)]
-    fn set_pair(
-        &mut self,
-        first: usize,
-        slots: &[(Option<Geometry>, bool)],
-        bodies: &Bodies,
-        lost: &mut f64,
-    ) {
-        let counts = bodies.counts(self.entries.key[first].a as usize);
-        for (k, &(geometry, fresh)) in slots.iter().enumerate() {
-            let l = self.set_region(first + k, geometry, fresh);
-            if counts {
-                *lost += l;
-            }
-        }
     }
 
     /// Sets what entry `e` touches this step; a contact that ends, or whose slot a new contact
@@ -642,26 +635,40 @@ impl ContactStore {
     /// report) before the contact laws run, and they can pass it by: of a mesh wall's eight
     /// slots for a sphere, one at most touches as a rule.
     pub(crate) fn set_region(&mut self, e: usize, geometry: Option<Geometry>, fresh: bool) -> f64 {
+        let point = geometry.as_ref().map(Geometry::contact_point);
+        self.set_slot(e, point, geometry.and_then(|g| g.volume), fresh)
+    }
+
+    /// [`ContactStore::set_region`] given the region's contact point and volume apart (a
+    /// sphere's region is a contact point alone).
+    #[inline(always)]
+    fn set_slot(
+        &mut self,
+        e: usize,
+        point: Option<ContactPoint>,
+        volume: Option<OverlapVolume>,
+        fresh: bool,
+    ) -> f64 {
         let x = &mut self.entries;
         let mut lost = 0.0;
-        if x.touching[e] && (fresh || geometry.is_none()) {
+        if x.touching[e] && (fresh || point.is_none()) {
             lost = x.stored_energy(e);
             x.history[e] = History::default();
             if let Some(spin) = x.spin.get_mut(e) {
                 *spin = SpinHistory::default();
             }
         }
-        if x.touching[e] && geometry.is_none() {
+        if x.touching[e] && point.is_none() {
             self.load[e] = PartnerLoad::default();
             if let Some(report) = self.report.get_mut(e) {
                 *report = LawReport::default();
             }
         }
-        x.touching[e] = geometry.is_some();
-        if let Some(g) = geometry {
-            x.geometry[e] = g.contact_point();
+        x.touching[e] = point.is_some();
+        if let Some(point) = point {
+            x.geometry[e] = point;
             if let Some(v) = self.volume.get_mut(e) {
-                *v = g.volume;
+                *v = volume;
             }
         }
         lost

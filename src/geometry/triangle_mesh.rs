@@ -64,6 +64,8 @@ pub struct TriangleMesh {
     /// faceted drum or on a coarse helicoid is not pushed once per facet). Faces meeting at a
     /// sharper angle are separate walls (a box's corner pushes once per wall).
     smooth_angle: f64,
+    /// Its cosine, which the contact rules compare with (worked out once, not per contact).
+    smooth_cos: f64,
     /// Each edge's two vertices, smaller index first.
     edges: Vec<[u32; 2]>,
     /// For each triangle the edge between its corners k and k+1 (mod 3), k = 0, 1, 2.
@@ -224,6 +226,7 @@ impl TriangleMesh {
             triangles,
             normals,
             smooth_angle: DEFAULT_SMOOTH_ANGLE,
+            smooth_cos: DEFAULT_SMOOTH_ANGLE.cos(),
             edges,
             triangle_edges,
             edge_start,
@@ -253,7 +256,7 @@ impl TriangleMesh {
             .map(|&v| rotation * (scale * v) + translation)
             .collect();
         let mut moved = Self::new(vertices, self.triangles.clone())?;
-        moved.smooth_angle = self.smooth_angle;
+        moved.set_smooth_angle(self.smooth_angle);
         Ok(moved)
     }
 
@@ -263,8 +266,14 @@ impl TriangleMesh {
         self.smooth_angle
     }
 
+    /// The cosine of [`TriangleMesh::smooth_angle`].
+    pub fn smooth_cos(&self) -> f64 {
+        self.smooth_cos
+    }
+
     pub fn set_smooth_angle(&mut self, angle: f64) {
         self.smooth_angle = angle;
+        self.smooth_cos = angle.cos();
     }
 
     /// The vertices (a wall's in its reference placement).

@@ -534,7 +534,7 @@ fn pressed_contacts(
     }
 
     // Regions: touched classes within the smooth angle of each other, transitively.
-    let smooth_cos = wall.smooth_angle().cos();
+    let smooth_cos = wall.smooth_cos();
     for i in 0..classes.len() {
         for j in 0..i {
             if classes[i].touched

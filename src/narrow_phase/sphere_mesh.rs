@@ -202,7 +202,7 @@ pub fn sphere_mesh_contacts_among(
     // points this close are the same minimum too.
     let same_point = 3.0 * (2.0 * r * tolerance).sqrt();
     taken.clear();
-    let smooth_cos = mesh.smooth_angle().cos();
+    let smooth_cos = mesh.smooth_cos();
     let distance_to = |t: u32| match near.binary_search(&t) {
         Ok(i) => distance[i],
         // Not near the sphere's box: farther than the radius, so farther than any candidate.
