@@ -15,6 +15,7 @@ use crate::narrow_phase::{
     RegionScratch,
 };
 use crate::shape::Shape;
+use crate::step::prefetch::prefetch;
 use crate::wall::{MeshWall, Plane};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -59,6 +60,9 @@ impl<'a> Scene<'a> {
         }
     }
 }
+
+/// How many spheres on mesh walls ahead [`detect_regions`] asks for a pair's data.
+const PREFETCH_AHEAD: usize = 8;
 
 /// Regions matched to their slots, per pair with several entries (reused from step to step),
 /// and the triangles each sphere on a mesh wall may touch while the neighbour list lasts.
@@ -165,12 +169,23 @@ pub fn detect_regions(
     // the triangles near it listed once per neighbour list.
     regions.near.update(scene, store, skin);
     let near = &regions.near;
-    store
-        .spheres_on_mesh()
+    let on_mesh = store.spheres_on_mesh();
+    on_mesh
         .par_iter()
         .enumerate()
         .with_min_len(16)
         .map(|(h, &first)| {
+            // The spheres at a wall lie scattered over the bodies and the store: ask for what
+            // the pair some pairs ahead will read, so that its misses overlap with this work.
+            if let Some(&ahead) = on_mesh.get(h + PREFETCH_AHEAD) {
+                let (ahead, bodies) = (ahead as usize, scene.bodies);
+                let a = keys[ahead].a as usize;
+                prefetch(&bodies.position[a]);
+                prefetch(&bodies.shape[a]);
+                prefetch(&bodies.equivalent_radius[a]);
+                prefetch(&touching[ahead]);
+                prefetch(&geometry[ahead]);
+            }
             let first = first as usize;
             let previous: [Option<ContactPoint>; SPHERE_MESH_REGIONS] =
                 std::array::from_fn(|k| touching[first + k].then(|| geometry[first + k]));
