@@ -68,3 +68,36 @@ macro_rules! four_wide_kernel {
         }
     };
 }
+
+/// In a wall kernel's property test (`plane_lanes`, `mesh_lanes`): runs the module's four-wide
+/// kernel on entries 0..4 (`Lanes::Four`), its `$rest` on the first `n` (`Lanes::Rest(n)`), or
+/// its `one_by_one` general path on the first `n` (`Lanes::OneByOne(n)`).
+#[cfg(test)]
+macro_rules! run_lanes {
+    ($lanes:expr, $inputs:expr, $ids:expr, $state:expr, $dt:expr, $rest:path) => {
+        match $lanes {
+            Lanes::Rest(count) => {
+                let rest: Vec<u32> = (0..count as u32).collect();
+                $rest($inputs, $ids, $state, &rest, $dt);
+            }
+            Lanes::Four => {
+                #[cfg(target_arch = "x86_64")]
+                {
+                    if !std::arch::is_x86_feature_detected!("avx") {
+                        println!("no AVX here: the kernel is not used on this CPU");
+                    } else {
+                        // SAFETY: the CPU has AVX.
+                        unsafe { with_avx($inputs, $ids, $state, [0, 1, 2, 3], $dt) };
+                    }
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                kernel($inputs, $ids, $state, [0, 1, 2, 3], $dt);
+            }
+            Lanes::OneByOne(count) => {
+                for k in 0..count {
+                    one_by_one($inputs, $ids, $state, k, $dt);
+                }
+            }
+        }
+    };
+}

@@ -11,7 +11,7 @@
 //! holds them together).
 
 use super::forces::LawInputs;
-use super::plane_lanes::{wall_law, WallContact};
+use super::plane_lanes::{padded, respond_to_wall, wall_law, WallContact};
 use super::sphere_lanes::{Laws, MotionLanes};
 use crate::contact::{EntryIds, EntryState, Partner};
 use crate::wide::lanes::{each, F4, V3};
@@ -33,11 +33,7 @@ pub(crate) fn touching_meshes_rest(
     rest: &[u32],
     dt: f64,
 ) {
-    debug_assert!(rest.len() < 4, "a rest of at most three entries");
-    if let Some(&last) = rest.last() {
-        let four = std::array::from_fn(|i| rest.get(i).copied().unwrap_or(last) as usize);
-        touching_meshes(inputs, ids, state, four, dt);
-    }
+    padded(rest, |four| touching_meshes(inputs, ids, state, four, dt));
 }
 
 /// The mesh wall of a sphere–mesh entry's key.
@@ -59,18 +55,8 @@ pub(crate) fn one_by_one(
     k: usize,
     dt: f64,
 ) {
-    let key = ids.key[k];
     let g = state.geometry[k];
-    let mut none = crate::contact_law::SpinHistory::default();
-    let spin = state.spin.get_mut(k).unwrap_or(&mut none);
-    let history = (&mut state.history[k], spin);
-    let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
-    let centre = inputs.motion[key.a as usize].position;
-    state.set_load(k, crate::contact::Load::new(&r, g.point, centre, None));
-    if let Some(report) = state.report.get_mut(k) {
-        *report = crate::contact::LawReport::of(&r);
-    }
-    state.dissipated[k] = r.dissipated;
+    respond_to_wall(inputs, ids, state, k, &g, dt);
 }
 
 #[inline(always)]
@@ -115,17 +101,15 @@ fn kernel(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::{Bodies, BodyInit};
-    use crate::contact::{ContactKey, LawReport, OwnLoad, PairKind, PartnerLoad};
-    use crate::contact_law::{History, SpinHistory};
-    use crate::integrate::BodyMotion;
-    use crate::math::{DQuat, DVec3};
+    use crate::contact::{ContactKey, PairKind};
+    use crate::contact_law::SpinHistory;
+    use crate::math::DVec3;
     use crate::narrow_phase::ContactPoint;
-    use crate::shape::{Shape, Sphere};
-    use crate::step::sphere_lanes::tests::{rolls, spin, tables, vec3, TABLES_COUNT};
+    use crate::step::sphere_lanes::tests::{
+        rolls, run_entries, spin, tables, vec3, Lanes, TestSpheres, TABLES_COUNT,
+    };
     use crate::step::Scene;
     use crate::wall::{MeshWall, WallMotion, WallState};
-    use glam::Vec3;
     use proptest::prelude::*;
 
     /// How a wall moves: translation velocity, rotation (rpm about an axis through a point),
@@ -197,9 +181,9 @@ mod tests {
             rest in 1..4usize,
         ) {
             let laws = &tables()[law];
-            let (mut bodies, mut shapes, mut motion) = (Bodies::default(), Vec::new(), Vec::new());
+            let mut spheres = TestSpheres::default();
             let (mut walls, mut wall_states, mut geometry) = (Vec::new(), Vec::new(), Vec::new());
-            let (mut start, mut start_spin) = (Vec::new(), Vec::new());
+            let mut start_spin = Vec::new();
             for (i, &(r, normal, depth, turn, v, end, (ma, mw), (spring, kt), spin, moves)) in
                 cases.iter().enumerate()
             {
@@ -220,34 +204,9 @@ mod tests {
                 let corners = vec![foot - u * 0.01 - w * 0.01, foot + u * 0.01, foot + w * 0.01];
                 walls.push(MeshWall::new(corners, vec![[0, 1, 2]], mw).unwrap());
                 wall_states.push(moves.map(states));
-                shapes.push(Shape::Sphere(Sphere { radius: r }));
-                let init = BodyInit {
-                    shape: shapes[i].clone(),
-                    material: ma,
-                    position: x,
-                    orientation: DQuat::from_scaled_axis(turn),
-                    velocity: DVec3::ZERO,
-                    angular_velocity: DVec3::ZERO,
-                };
-                let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-                // Unequal moments, as of a body that is not a solid sphere.
-                let inertia = DVec3::new(0.4, 0.3, 0.5) * mass * r * r;
-                bodies.push(i as u64, i as u32, ma, r, r, mass, inertia, &init);
-                motion.push(BodyMotion {
-                    position: x,
-                    radius: r,
-                    velocity: v[0],
-                    angular_velocity: v[1] * 100.0,
-                    velocity_end: v[0] + end[0],
-                    angular_velocity_end: (v[1] + end[1]) * 100.0,
-                });
-                start.push(History {
-                    tangential_spring: spring,
-                    tangential_stiffness: kt,
-                    damper_force: (spring * 1e4).as_vec3() + Vec3::X * 1e-3,
-                    damper_work_estimate: 1e-7,
-                });
+                spheres.push(r, x, turn, v, end, ma, spring, kt);
             }
+            let TestSpheres { bodies, shapes, motion, start } = spheres;
             let inputs = LawInputs {
                 scene: Scene {
                     bodies: &bodies,
@@ -266,49 +225,13 @@ mod tests {
                 .collect();
             let kind = [PairKind::SphereOnMesh; 4];
             let ids = EntryIds { key: &key, kind: &kind };
-            let run = |four_wide: bool, count: usize| {
-                let mut touching = [true; 4];
-                let mut geometry: [ContactPoint; 4] = std::array::from_fn(|i| geometry[i]);
-                let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
-                let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
-                let mut own = [OwnLoad::default(); 4];
-                let mut dissipated = [0.0; 4];
-                let mut spin = start_spin.clone();
-                let mut state = EntryState {
-                    touching: &mut touching,
-                    geometry: &mut geometry,
-                    volume: &mut [],
-                    history: &mut history,
-                    spin: &mut spin,
-                    load: &mut load,
-                    own: &mut own,
-                    report: &mut report,
-                    dissipated: &mut dissipated,
-                };
-                if four_wide && count < 4 {
-                    let rest: Vec<u32> = (0..count as u32).collect();
-                    touching_meshes_rest(&inputs, &ids, &mut state, &rest, dt);
-                } else if four_wide {
-                    #[cfg(target_arch = "x86_64")]
-                    {
-                        if !std::arch::is_x86_feature_detected!("avx") {
-                            println!("no AVX here: the kernel is not used on this CPU");
-                        } else {
-                            // SAFETY: the CPU has AVX.
-                            unsafe { with_avx(&inputs, &ids, &mut state, [0, 1, 2, 3], dt) };
-                        }
-                    }
-                    #[cfg(not(target_arch = "x86_64"))]
-                    kernel(&inputs, &ids, &mut state, [0, 1, 2, 3], dt);
-                } else {
-                    for k in 0..count {
-                        one_by_one(&inputs, &ids, &mut state, k, dt);
-                    }
-                }
-                format!("{history:?} {spin:?} {load:?} {own:?} {report:?} {dissipated:?}")
+            let run = |lanes: Lanes| {
+                run_entries(&start, &start_spin, &geometry, true, |state| {
+                    run_lanes!(lanes, &inputs, &ids, state, dt, touching_meshes_rest)
+                })
             };
-            prop_assert_eq!(run(true, 4), run(false, 4));
-            prop_assert_eq!(run(true, rest), run(false, rest));
+            prop_assert_eq!(run(Lanes::Four), run(Lanes::OneByOne(4)));
+            prop_assert_eq!(run(Lanes::Rest(rest)), run(Lanes::OneByOne(rest)));
         }
     }
 }

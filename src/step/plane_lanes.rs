@@ -56,10 +56,18 @@ pub(crate) fn touching_planes_rest(
     rest: &[u32],
     dt: f64,
 ) {
+    padded(rest, |four| touching_planes(inputs, ids, state, four, dt));
+}
+
+/// Runs `four` on the one to three entries `rest` padded to four by repeating the last (none
+/// when `rest` is empty).
+#[inline(always)]
+pub(super) fn padded(rest: &[u32], four: impl FnOnce([usize; 4])) {
     debug_assert!(rest.len() < 4, "a rest of at most three entries");
     if let Some(&last) = rest.last() {
-        let four = std::array::from_fn(|i| rest.get(i).copied().unwrap_or(last) as usize);
-        touching_planes(inputs, ids, state, four, dt);
+        four(std::array::from_fn(|i| {
+            rest.get(i).copied().unwrap_or(last) as usize
+        }));
     }
 }
 
@@ -68,10 +76,24 @@ fn one_by_one(inputs: &LawInputs, ids: &EntryIds, state: &mut EntryState, k: usi
     let key = ids.key[k];
     let g = super::detect::detect_single(inputs.scene, &key, k, state)
         .expect("a sphere–plane entry sorted as touching touches");
+    respond_to_wall(inputs, ids, state, k, &g, dt);
+}
+
+/// The general path's response of touching sphere–wall entry `k` at contact `g`: the law
+/// (`LawInputs::respond`), the load with no partner body, the report and the energy lost.
+pub(super) fn respond_to_wall(
+    inputs: &LawInputs,
+    ids: &EntryIds,
+    state: &mut EntryState,
+    k: usize,
+    g: &crate::narrow_phase::ContactPoint,
+    dt: f64,
+) {
+    let key = ids.key[k];
     let mut none = crate::contact_law::SpinHistory::default();
     let spin = state.spin.get_mut(k).unwrap_or(&mut none);
     let history = (&mut state.history[k], spin);
-    let r = inputs.respond(key, ids.kind[k], &g, None, history, dt);
+    let r = inputs.respond(key, ids.kind[k], g, None, history, dt);
     let centre = inputs.motion[key.a as usize].position;
     state.set_load(k, crate::contact::Load::new(&r, g.point, centre, None));
     if let Some(report) = state.report.get_mut(k) {
@@ -212,15 +234,13 @@ pub(super) fn wall_law(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::{Bodies, BodyInit};
-    use crate::contact::{ContactKey, LawReport, OwnLoad, PairKind, PartnerLoad};
-    use crate::contact_law::{History, SpinHistory};
-    use crate::integrate::BodyMotion;
-    use crate::math::{DQuat, DVec3};
-    use crate::shape::{Shape, Sphere};
-    use crate::step::sphere_lanes::tests::{rolls, spin, tables, vec3, TABLES_COUNT};
+    use crate::contact::{ContactKey, PairKind};
+    use crate::contact_law::SpinHistory;
+    use crate::math::DVec3;
+    use crate::step::sphere_lanes::tests::{
+        rolls, run_entries, spin, tables, vec3, Lanes, TestSpheres, TABLES_COUNT,
+    };
     use crate::step::Scene;
-    use glam::Vec3;
     use proptest::prelude::*;
 
     /// One sphere on a plane: radius, the plane's normal, how deep the sphere sits (a share of
@@ -271,9 +291,8 @@ mod tests {
             rest in 1..4usize,
         ) {
             let laws = &tables()[law];
-            let (mut bodies, mut shapes, mut motion, mut planes) =
-                (Bodies::default(), Vec::new(), Vec::new(), Vec::new());
-            let (mut start, mut start_spin) = (Vec::new(), Vec::new());
+            let (mut spheres, mut planes) = (TestSpheres::default(), Vec::new());
+            let mut start_spin = Vec::new();
             for (i, &(r, normal, depth, turn, v, end, (ma, mp), spring, kt, spin)) in cases.iter().enumerate() {
                 if rolls(law) {
                     start_spin.push(spin);
@@ -282,35 +301,9 @@ mod tests {
                 let point = DVec3::new(0.01, -0.02, 0.03) * (i as f64 + 1.0);
                 let x = point + normal * (r * (1.0 - depth)) + normal.any_orthonormal_vector() * 0.004;
                 planes.push(Plane { point, normal, material: mp });
-                shapes.push(Shape::Sphere(Sphere { radius: r }));
-                let orientation = DQuat::from_scaled_axis(turn);
-                let init = BodyInit {
-                    shape: shapes[i].clone(),
-                    material: ma,
-                    position: x,
-                    orientation,
-                    velocity: DVec3::ZERO,
-                    angular_velocity: DVec3::ZERO,
-                };
-                let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-                // Unequal moments, as of a body that is not a solid sphere.
-                let inertia = DVec3::new(0.4, 0.3, 0.5) * mass * r * r;
-                bodies.push(i as u64, i as u32, ma, r, r, mass, inertia, &init);
-                motion.push(BodyMotion {
-                    position: x,
-                    radius: r,
-                    velocity: v[0],
-                    angular_velocity: v[1] * 100.0,
-                    velocity_end: v[0] + end[0],
-                    angular_velocity_end: (v[1] + end[1]) * 100.0,
-                });
-                start.push(History {
-                    tangential_spring: spring,
-                    tangential_stiffness: kt,
-                    damper_force: (spring * 1e4).as_vec3() + Vec3::X * 1e-3,
-                    damper_work_estimate: 1e-7,
-                });
+                spheres.push(r, x, turn, v, end, ma, spring, kt);
             }
+            let TestSpheres { bodies, shapes, motion, start } = spheres;
             let inputs = LawInputs {
                 scene: Scene {
                     bodies: &bodies,
@@ -332,48 +325,14 @@ mod tests {
             for k in &key {
                 prop_assert!(touches(&inputs, k.a, k.partner), "{:?} must touch", k);
             }
-            let run = |four_wide: bool, count: usize| {
-                let mut touching = [false; 4];
-                let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
-                let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
-                let mut own = [OwnLoad::default(); 4];
-                let mut dissipated = [0.0; 4];
-                let mut spin = start_spin.clone();
-                let mut state = EntryState {
-                    touching: &mut touching,
-                    geometry: &mut [],
-                    volume: &mut [],
-                    history: &mut history,
-                    spin: &mut spin,
-                    load: &mut load,
-                    own: &mut own,
-                    report: &mut report,
-                    dissipated: &mut dissipated,
-                };
-                if four_wide && count < 4 {
-                    let rest: Vec<u32> = (0..count as u32).collect();
-                    touching_planes_rest(&inputs, &ids, &mut state, &rest, dt);
-                } else if four_wide {
-                    #[cfg(target_arch = "x86_64")]
-                    {
-                        if !std::arch::is_x86_feature_detected!("avx") {
-                            println!("no AVX here: the kernel is not used on this CPU");
-                        } else {
-                            // SAFETY: the CPU has AVX.
-                            unsafe { with_avx(&inputs, &ids, &mut state, [0, 1, 2, 3], dt) };
-                        }
-                    }
-                    #[cfg(not(target_arch = "x86_64"))]
-                    kernel(&inputs, &ids, &mut state, [0, 1, 2, 3], dt);
-                } else {
-                    for k in 0..count {
-                        one_by_one(&inputs, &ids, &mut state, k, dt);
-                    }
-                }
-                format!("{touching:?} {history:?} {spin:?} {load:?} {own:?} {report:?} {dissipated:?}")
+            let geometry = Vec::<crate::narrow_phase::ContactPoint>::new();
+            let run = |lanes: Lanes| {
+                run_entries(&start, &start_spin, &geometry, false, |state| {
+                    run_lanes!(lanes, &inputs, &ids, state, dt, touching_planes_rest)
+                })
             };
-            prop_assert_eq!(run(true, 4), run(false, 4));
-            prop_assert_eq!(run(true, rest), run(false, rest));
+            prop_assert_eq!(run(Lanes::Four), run(Lanes::OneByOne(4)));
+            prop_assert_eq!(run(Lanes::Rest(rest)), run(Lanes::OneByOne(rest)));
         }
     }
 }

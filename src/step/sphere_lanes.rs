@@ -468,6 +468,104 @@ pub(super) mod tests {
     pub(in crate::step) const TABLES_COUNT: usize = 8;
 
     /// Whether table `k` has rolling friction: a world that keeps spin histories.
+    /// The spheres of a wall kernel's test (`plane_lanes`, `mesh_lanes`), one per lane, and the
+    /// histories their entries start from.
+    #[derive(Default)]
+    pub(in crate::step) struct TestSpheres {
+        pub bodies: crate::body::Bodies,
+        pub shapes: Vec<crate::shape::Shape>,
+        pub motion: Vec<BodyMotion>,
+        pub start: Vec<History>,
+    }
+
+    impl TestSpheres {
+        /// A sphere of radius `r` at `x`, turned by `turn` (axis × angle), of material
+        /// `material`, with unequal moments (as of a body that is not a solid sphere), its
+        /// velocities `v` (and ω/100) over the step and `v + end` at its end, and an entry history
+        /// with `spring` and stiffness `kt`.
+        #[allow(clippy::too_many_arguments)]
+        pub(in crate::step) fn push(
+            &mut self,
+            r: f64,
+            x: DVec3,
+            turn: DVec3,
+            v: [DVec3; 2],
+            end: [DVec3; 2],
+            material: u32,
+            spring: DVec3,
+            kt: f64,
+        ) {
+            let i = self.shapes.len();
+            let shape = crate::shape::Shape::Sphere(crate::shape::Sphere { radius: r });
+            self.shapes.push(shape.clone());
+            let init = crate::body::BodyInit {
+                shape,
+                material,
+                position: x,
+                orientation: crate::math::DQuat::from_scaled_axis(turn),
+                velocity: DVec3::ZERO,
+                angular_velocity: DVec3::ZERO,
+            };
+            let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+            let inertia = DVec3::new(0.4, 0.3, 0.5) * mass * r * r;
+            self.bodies
+                .push(i as u64, i as u32, material, r, r, mass, inertia, &init);
+            self.motion.push(BodyMotion {
+                position: x,
+                radius: r,
+                velocity: v[0],
+                angular_velocity: v[1] * 100.0,
+                velocity_end: v[0] + end[0],
+                angular_velocity_end: (v[1] + end[1]) * 100.0,
+            });
+            self.start.push(History {
+                tangential_spring: spring,
+                tangential_stiffness: kt,
+                damper_force: (spring * 1e4).as_vec3() + glam::Vec3::X * 1e-3,
+                damper_work_estimate: 1e-7,
+            });
+        }
+    }
+
+    /// How a wall kernel's test runs its four entries (`plane_lanes`, `mesh_lanes`): four-wide
+    /// (the kernel, or a rest of fewer padded to four) or one by one on the general path.
+    pub(in crate::step) enum Lanes {
+        Four,
+        Rest(usize),
+        OneByOne(usize),
+    }
+
+    /// Four entries' state from the histories `start` (and spin histories `start_spin`, the
+    /// geometry `geometry`, touching or not), given to `run`; what it leaves, as text to compare.
+    pub(in crate::step) fn run_entries(
+        start: &[History],
+        start_spin: &[SpinHistory],
+        geometry: &[crate::narrow_phase::ContactPoint],
+        touching: bool,
+        run: impl FnOnce(&mut EntryState),
+    ) -> String {
+        let mut touching = [touching; 4];
+        let mut geometry = geometry.to_vec();
+        let mut history: [History; 4] = std::array::from_fn(|i| start[i]);
+        let (mut load, mut report) = ([PartnerLoad::default(); 4], [LawReport::default(); 4]);
+        let mut own = [OwnLoad::default(); 4];
+        let mut dissipated = [0.0; 4];
+        let mut spin = start_spin.to_vec();
+        let mut state = EntryState {
+            touching: &mut touching,
+            geometry: &mut geometry,
+            volume: &mut [],
+            history: &mut history,
+            spin: &mut spin,
+            load: &mut load,
+            own: &mut own,
+            report: &mut report,
+            dissipated: &mut dissipated,
+        };
+        run(&mut state);
+        format!("{touching:?} {history:?} {spin:?} {load:?} {own:?} {report:?} {dissipated:?}")
+    }
+
     pub(in crate::step) fn rolls(k: usize) -> bool {
         k & 4 != 0
     }
