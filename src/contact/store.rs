@@ -603,46 +603,51 @@ impl ContactStore {
             let regional_next = h == on_mesh.len()
                 || (g < assigned.len() && self.regional[g] < self.spheres_on_mesh[h]);
             if regional_next {
-                let first = self.regional[g] as usize;
-                let counts = bodies.counts(self.entries.key[first].a as usize);
-                for (k, a) in assigned[g].iter().enumerate() {
-                    let l = self.set_region(first + k, a.geometry, a.fresh);
-                    if counts {
-                        lost += l;
-                    }
-                }
+                let slots = assigned[g].iter().map(|a| {
+                    let point = a.geometry.as_ref().map(Geometry::contact_point);
+                    (point, a.geometry.and_then(|g| g.volume), a.fresh)
+                });
+                self.set_pair(self.regional[g] as usize, slots, bodies, &mut lost);
                 g += 1;
             } else {
-                let first = self.spheres_on_mesh[h] as usize;
-                let counts = bodies.counts(self.entries.key[first].a as usize);
-                for (k, a) in on_mesh[h].iter().enumerate() {
-                    let l = self.set_slot(first + k, a.geometry, None, a.fresh);
-                    if counts {
-                        lost += l;
-                    }
-                }
+                let slots = on_mesh[h].iter().map(|a| (a.geometry, None, a.fresh));
+                self.set_pair(self.spheres_on_mesh[h] as usize, slots, bodies, &mut lost);
                 h += 1;
             }
         }
         lost
     }
 
-    /// Sets what entry `e` touches this step; a contact that ends, or whose slot a new contact
-    /// takes (`fresh`), drops its history. Returns the energy the dropped history held.
+    /// Sets the slots of the pair whose entries start at `first` (each slot's contact point,
+    /// volume and whether it is a new contact), adding the energy the dropped histories held to
+    /// `lost` (a ghost's left to its owner).
+    #[inline(always)]
+    fn set_pair(
+        &mut self,
+        first: usize,
+        slots: impl Iterator<Item = (Option<ContactPoint>, Option<OverlapVolume>, bool)>,
+        bodies: &Bodies,
+        lost: &mut f64,
+    ) {
+        let counts = bodies.counts(self.entries.key[first].a as usize);
+        for (k, (point, volume, fresh)) in slots.enumerate() {
+            let l = self.set_region(first + k, point, volume, fresh);
+            if counts {
+                *lost += l;
+            }
+        }
+    }
+
+    /// Sets what entry `e` touches this step (its contact point and, for a polyhedron, the
+    /// overlap's volume; `None`: nothing); a contact that ends, or whose slot a new contact takes
+    /// (`fresh`), drops its history. Returns the energy the dropped history held.
     ///
     /// A contact that ends also gives up its load and report here, so that a regional entry
     /// that does not touch holds what every entry apart holds (no history, a zero load and
-    /// report) before the contact laws run, and they can pass it by: of a mesh wall's eight
-    /// slots for a sphere, one at most touches as a rule.
-    pub(crate) fn set_region(&mut self, e: usize, geometry: Option<Geometry>, fresh: bool) -> f64 {
-        let point = geometry.as_ref().map(Geometry::contact_point);
-        self.set_slot(e, point, geometry.and_then(|g| g.volume), fresh)
-    }
-
-    /// [`ContactStore::set_region`] given the region's contact point and volume apart (a
-    /// sphere's region is a contact point alone).
+    /// report) before the contact laws run, and they can pass it by: of a sphere's four slots on
+    /// a mesh wall, one at most touches as a rule.
     #[inline(always)]
-    fn set_slot(
+    pub(crate) fn set_region(
         &mut self,
         e: usize,
         point: Option<ContactPoint>,
@@ -744,12 +749,11 @@ mod tests {
     use super::*;
     use crate::math::DVec3;
 
-    fn touching_at(z: f64) -> Geometry {
-        Geometry {
+    fn touching_at(z: f64) -> ContactPoint {
+        ContactPoint {
             normal: DVec3::Z,
             point: DVec3::new(0.0, 0.0, z),
             overlap: 1e-3,
-            volume: None,
         }
     }
 
@@ -809,7 +813,7 @@ mod tests {
             .iter()
             .position(|k| k.a == a && k.partner == partner)
             .unwrap();
-        store.set_region(e, Some(touching_at(0.0)), false);
+        store.set_region(e, Some(touching_at(0.0)), None, false);
         e
     }
 
@@ -1037,7 +1041,7 @@ mod tests {
         ];
         let springs = [(4.0, 2f64.powi(26)), (2.0, 1.0), (2.0, 1.0), (4.0, 1.0)];
         for (&e, &(stiffness, spring)) in lasts.iter().zip(&springs) {
-            store.set_region(e, Some(touching_at(0.0)), false);
+            store.set_region(e, Some(touching_at(0.0)), None, false);
             let history = &mut store.entries.history[e];
             history.tangential_stiffness = stiffness;
             history.tangential_spring = DVec3::X * spring;
@@ -1066,7 +1070,7 @@ mod tests {
             kind: PairKind::Regional,
         }];
         store.set_candidates(&list, &numbered(2), kept(true, false));
-        store.set_region(2, Some(touching_at(0.0)), true);
+        store.set_region(2, Some(touching_at(0.0)), None, true);
         store.load[2].force = DVec3::X;
         store.load[2].torque_b = DVec3::Y;
         store.report[2] = LawReport {
@@ -1074,9 +1078,9 @@ mod tests {
             elastic_energy: 2.0,
         };
         // Still touching: what the laws wrote stays until they write again.
-        store.set_region(2, Some(touching_at(1e-6)), false);
+        store.set_region(2, Some(touching_at(1e-6)), None, false);
         assert_eq!(store.load[2].force, DVec3::X);
-        store.set_region(2, None, false);
+        store.set_region(2, None, None, false);
         assert_eq!(store.load[2], PartnerLoad::default());
         assert_eq!(store.report[2], LawReport::default());
         assert!(!store.touching()[2]);

@@ -68,7 +68,7 @@ impl WallLoads {
         let count = at.planes.len() + walls.meshes.len();
         self.impulse.resize(count, DVec3::ZERO);
         self.angular_impulse.resize(count, DVec3::ZERO);
-        // Most wall entries do not touch (a sphere near a mesh wall has eight slots, one of
+        // Most wall entries do not touch (a sphere near a mesh wall has four slots, one of
         // which touches as a rule): their flags are read once, in order, and only the entries
         // that touch are worked out (the same shares in the same order).
         let flags = store.touching();
