@@ -28,7 +28,7 @@ pub use dispatch::{
 pub use nonconvex::{RegionScratch, MAX_REGIONS};
 pub use sphere_mesh::{
     closest_point_on_triangle, is_behind_mesh, sphere_mesh, sphere_mesh_contacts,
-    sphere_mesh_contacts_among, MeshContact, MeshScratch, TriangleRegion,
+    sphere_mesh_contacts_among, triangles_within, MeshContact, MeshScratch, TriangleRegion,
 };
 pub use sphere_plane::{sphere_plane, touching_sphere_plane};
 pub use sphere_sphere::{overlapping_spheres, sphere_sphere};

@@ -140,6 +140,24 @@ pub fn sphere_mesh_contacts(
     scratch.near = near;
 }
 
+/// Appends to `out` (cleared first), in increasing order, the triangles of `mesh` within `reach`
+/// of `x` (their closest point to it, with a rounding margin): every triangle a sphere of radius
+/// `r` can touch while its centre stays within `reach − r` of `x`, since the distance to a
+/// triangle changes no faster than the point moves. A list for [`sphere_mesh_contacts_among`]
+/// made once for a neighbour list's life: shorter than the triangles whose boxes come that near
+/// (on a floor of squares cut in two, both halves' boxes are the whole square).
+pub fn triangles_within(x: DVec3, reach: f64, mesh: &TriangleMesh, out: &mut Vec<u32>) {
+    mesh.triangles_near(&Aabb::around_sphere(x, reach), out);
+    // The computed distance is within a few ulps of the coordinates of the true one; a margin
+    // well above that keeps every triangle the true distance would.
+    let margin = 1e-9 * reach + 64.0 * f64::EPSILON * (x.abs().max_element() + reach);
+    out.retain(|&t| {
+        let [a, b, c] = mesh.corners(t);
+        let (q, _) = closest_point_on_triangle(x, a, b, c);
+        (x - q).length() < reach + margin
+    });
+}
+
 /// As [`sphere_mesh_contacts`], given `near`: an increasing list of triangles that holds every
 /// triangle whose box overlaps the sphere's (more do no harm: a triangle whose box is apart from
 /// the sphere's is farther than the radius, and counts as it would not listed). A list made
@@ -445,6 +463,91 @@ mod tests {
             }
         }
         assert!(touching > 1000, "only {touching} spheres touched a wall");
+    }
+
+    /// A list of the triangles within the radius and two skins of where a sphere was gives the
+    /// contacts the mesh's own query gives, to the bit, wherever within two skins the sphere has
+    /// gone since; and it drops triangles whose boxes come that near but which are farther (on
+    /// a floor of squares cut in two, the far half of a square).
+    #[test]
+    fn contacts_among_the_triangles_within_reach_are_the_same() {
+        let walls = [
+            floor(10),
+            box_mesh(DVec3::ZERO, DVec3::ONE, 4, Facing::Inward)
+                .unwrap()
+                .into_wall(0)
+                .unwrap(),
+            box_mesh(DVec3::ZERO, DVec3::ONE, 3, Facing::Outward)
+                .unwrap()
+                .into_wall(0)
+                .unwrap(),
+        ];
+        let mut rng = Rng::new(23);
+        let (mut scratch, mut within, mut boxed) = (MeshScratch::default(), Vec::new(), Vec::new());
+        let (mut queried, mut among) = (Vec::new(), Vec::new());
+        let (mut touching, mut listed, mut boxes) = (0, 0, 0);
+        for _ in 0..3000 {
+            let r = rng.uniform(0.02, 0.2);
+            let skin = rng.uniform(0.0, 0.1);
+            let x0 = DVec3::new(
+                rng.uniform(-0.2, 1.2),
+                rng.uniform(-0.2, 1.2),
+                rng.uniform(-0.2, 1.2),
+            );
+            // Moved by up to two skins, in a random direction; the last of the draws exactly
+            // that far.
+            let direction = DVec3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            )
+            .normalize_or(DVec3::X);
+            for w in &walls {
+                triangles_within(x0, r + 2.0 * skin, w, &mut within);
+                w.triangles_near(&Aabb::around_sphere(x0, r + 2.0 * skin), &mut boxed);
+                assert!(within.iter().all(|t| boxed.contains(t)));
+                (listed, boxes) = (listed + within.len(), boxes + boxed.len());
+                for moved in [rng.uniform(0.0, 2.0 * skin), 2.0 * skin] {
+                    let x = x0 + direction * moved;
+                    sphere_mesh_contacts(x, r, w, &mut scratch, &mut queried);
+                    sphere_mesh_contacts_among(x, r, w, &within, &mut scratch, &mut among);
+                    assert_eq!(format!("{queried:?}"), format!("{among:?}"), "{x} r {r}");
+                    touching += !queried.is_empty() as usize;
+                }
+            }
+        }
+        assert!(touching > 2000, "only {touching} spheres touched a wall");
+        // The exact lists are markedly shorter than the boxes' (what makes them worth it).
+        assert!(
+            4 * listed < 3 * boxes,
+            "{listed} triangles within reach of {boxes}"
+        );
+    }
+
+    /// Only the half of a floor square within reach is listed, where both halves' boxes are
+    /// the whole square; a triangle exactly at the reach's distance is kept (the margin).
+    #[test]
+    fn triangles_within_reach_of_a_floor_square() {
+        // floor(1): the square [-1, 1]² as two triangles cut along a diagonal.
+        let w = floor(1);
+        assert_eq!(w.triangles().len(), 2);
+        let mut out = Vec::new();
+        let [a, b, c] = w.corners(0);
+        let centroid = (a + b + c) / 3.0 + DVec3::Z * 0.1;
+        triangles_within(centroid, 0.2, &w, &mut out);
+        assert_eq!(out, [0]);
+        triangles_within(centroid, 3.0, &w, &mut out);
+        assert_eq!(out, [0, 1]);
+        // Above a corner shared by both, at height h: both at distance h exactly.
+        let shared = w
+            .corners(0)
+            .into_iter()
+            .find(|v| w.corners(1).contains(v))
+            .unwrap();
+        triangles_within(shared + DVec3::Z * 0.25, 0.25, &w, &mut out);
+        assert_eq!(out, [0, 1]);
+        triangles_within(shared + DVec3::Z * 0.25, 0.2499, &w, &mut out);
+        assert!(out.is_empty());
     }
 
     #[test]

@@ -75,7 +75,8 @@ pub struct RegionOutput {
 
 /// The triangles near each sphere on a mesh wall (`near[first[h]..first[h + 1]]` for the
 /// sphere whose entries start at the store's `spheres_on_mesh()[h]`), made for the store's list
-/// `list` (`ContactStore::list_id`) and the skin `skin`.
+/// `list` (`ContactStore::list_id`) and the skin `skin`: those within the sphere's radius and
+/// two skins of where it was then.
 #[derive(Default)]
 struct NearTriangles {
     list: u64,
@@ -89,9 +90,10 @@ impl NearTriangles {
     /// for. A list stays while no body has moved more than half the skin since it was made, nor
     /// any wall (`candidates::NeighbourSearch`): a sphere then stays within a skin of where it
     /// was, in its wall's placement, and within two skins of where it is now, whenever within
-    /// the list's life this is done (right after the list is made, or after a restart). So the
-    /// triangles whose boxes come within the radius and two skins of it hold every triangle it
-    /// can reach before the next list.
+    /// the list's life this is done (right after the list is made, or after a restart). The
+    /// distance to a triangle changes no faster than the sphere moves, so the triangles within
+    /// the radius and two skins of it hold every triangle it can reach before the next list
+    /// (`narrow_phase::triangles_within`; fewer than those whose boxes come that near).
     fn update(&mut self, scene: Scene, store: &ContactStore, skin: f64) {
         if self.list == store.list_id() && store.list_id() != 0 && self.skin == skin {
             return;
@@ -104,7 +106,7 @@ impl NearTriangles {
             .map(|&first| {
                 let (x, r, wall) = sphere_and_wall(scene, &keys[first as usize]);
                 let mut near = Vec::new();
-                wall.triangles_near(&Aabb::around_sphere(x, r + 2.0 * skin), &mut near);
+                narrow_phase::triangles_within(x, r + 2.0 * skin, wall, &mut near);
                 near
             })
             .collect();
