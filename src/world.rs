@@ -282,6 +282,7 @@ impl World {
             wall_states: &self.wall_states,
             laws: &self.pair_laws,
             motion: &self.motion,
+            near_triangles: self.regions.near_triangles(),
             inverse_step: 1.0 / self.time_step,
         };
         clock.lap(&mut self.times.other);

@@ -226,3 +226,91 @@ position = [0.0045, 0.0045, 0.0045]
         "one contact per wall: {normals:?}"
     );
 }
+
+/// Spheres on mesh walls have their contacts found and their slots set inside the contact
+/// loop's parallel chunks: a bed falling into a triangulated box, thrown sideways so that they
+/// bounce and slide, gives the same bits on one and on two threads (positions,
+/// velocities, and the energy ledger's dissipated figure, which books the histories of the
+/// regions that end).
+#[test]
+fn spheres_on_mesh_walls_agree_bit_for_bit_on_one_and_two_threads() {
+    let world = |threads: usize| {
+        let text = format!(
+            r#"
+[simulation]
+duration = 0.05
+time_step = 8.0e-6
+gravity = [1.5, -0.8, -9.81]
+threads = {threads}
+
+[[material]]
+name = "m"
+density = 2500.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.4
+
+[[mesh_wall]]
+material = "m"
+generator = {{ type = "box", min = [0.0, 0.0, 0.0], max = [0.04, 0.04, 0.04], divisions = 4 }}
+
+[[insert]]
+method = "random"
+material = "m"
+region_min = [0.0, 0.0, 0.0]
+region_max = [0.04, 0.04, 0.04]
+count = 1000
+radius = 0.0015
+seed = 7
+velocity = [0.3, 0.2, -0.5]
+"#
+        );
+        polydem::scene::Scene::parse(std::path::Path::new("bed.toml"), text)
+            .unwrap()
+            .build()
+            .unwrap()
+            .world
+    };
+    let mut worlds = [world(1), world(2)];
+    assert_eq!((worlds[0].threads(), worlds[1].threads()), (1, 2));
+    let mut most_on_walls = 0;
+    for part in 0..8 {
+        for w in &mut worlds {
+            w.run_steps(1000);
+        }
+        let [a, b] = &worlds;
+        let on_walls = a.contacts().with_mesh_walls().count();
+        most_on_walls = most_on_walls.max(on_walls);
+        assert_eq!(
+            on_walls,
+            b.contacts().with_mesh_walls().count(),
+            "part {part}"
+        );
+        for i in 0..a.bodies().len() {
+            let (x, y) = (a.bodies(), b.bodies());
+            assert_eq!(
+                x.position[i].to_array().map(f64::to_bits),
+                y.position[i].to_array().map(f64::to_bits),
+                "position of {i}, part {part}"
+            );
+            assert_eq!(
+                x.velocity[i].to_array().map(f64::to_bits),
+                y.velocity[i].to_array().map(f64::to_bits),
+                "velocity of {i}, part {part}"
+            );
+        }
+        let (ea, eb) = (a.energy(), b.energy());
+        assert_eq!(
+            ea.dissipated.to_bits(),
+            eb.dissipated.to_bits(),
+            "part {part}"
+        );
+        assert_eq!(ea.total().to_bits(), eb.total().to_bits(), "part {part}");
+    }
+    // Enough spheres on the walls to fill several chunks of the contact loop.
+    assert!(
+        most_on_walls > 200,
+        "only {most_on_walls} contacts with the walls"
+    );
+}

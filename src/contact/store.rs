@@ -12,7 +12,7 @@
 //! Persistent state (key, history) is kept apart from what a step recomputes (touching, geometry,
 //! response).
 
-use super::key::{ContactKey, ContactOrder, PairKind, Partner, SPHERE_MESH_REGIONS};
+use super::key::{ContactKey, ContactOrder, PairKind, Partner};
 use super::load::{LawReport, Load, OwnLoad, PartnerLoad};
 use super::regions::{Assigned, MAX_REGIONS};
 use crate::body::Bodies;
@@ -585,68 +585,32 @@ impl ContactStore {
         &self.wall_entries
     }
 
-    /// Sets what the pairs with several regions touch this step: `assigned[g]` for the pair whose
-    /// entries start at `regional()[g]`, `on_mesh[h]` for the sphere whose entries start at
-    /// `spheres_on_mesh()[h]`. Returns the energy the dropped histories held (see
-    /// [`ContactStore::set_region`]), added up in store order whatever the pairs' kinds.
+    /// Sets what the pairs with [`MAX_REGIONS`] entries touch this step: `assigned[g]` for the
+    /// pair whose entries start at `regional()[g]` (spheres on mesh walls are set in the contact
+    /// loop's chunks, `step::detect::set_spheres_on_mesh`). Returns the energy the dropped
+    /// histories held (see [`StorePass::set_region`]), added up in store order.
     pub(crate) fn set_regions(
         &mut self,
         assigned: &[[Assigned; MAX_REGIONS]],
-        on_mesh: &[[Assigned<ContactPoint>; SPHERE_MESH_REGIONS]],
         bodies: &Bodies,
     ) -> f64 {
         debug_assert_eq!(assigned.len(), self.regional.len());
-        debug_assert_eq!(on_mesh.len(), self.spheres_on_mesh.len());
         let mut lost = 0.0;
-        let (mut g, mut h) = (0, 0);
-        while g < assigned.len() || h < on_mesh.len() {
-            let regional_next = h == on_mesh.len()
-                || (g < assigned.len() && self.regional[g] < self.spheres_on_mesh[h]);
-            if regional_next {
-                let slots = assigned[g].iter().map(|a| {
-                    let point = a.geometry.as_ref().map(Geometry::contact_point);
-                    (point, a.geometry.and_then(|g| g.volume), a.fresh)
-                });
-                self.set_pair(self.regional[g] as usize, slots, bodies, &mut lost);
-                g += 1;
-            } else {
-                let slots = on_mesh[h].iter().map(|a| (a.geometry, None, a.fresh));
-                self.set_pair(self.spheres_on_mesh[h] as usize, slots, bodies, &mut lost);
-                h += 1;
-            }
+        let regional = std::mem::take(&mut self.regional);
+        let mut pass = self.entries_mut();
+        for (&first, slots) in regional.iter().zip(assigned) {
+            let slots = slots.iter().map(|a| {
+                let point = a.geometry.as_ref().map(Geometry::contact_point);
+                (point, a.geometry.and_then(|g| g.volume), a.fresh)
+            });
+            pass.set_pair(first as usize, slots, bodies, &mut lost);
         }
+        self.regional = regional;
         lost
     }
 
-    /// Sets the slots of the pair whose entries start at `first` (each slot's contact point,
-    /// volume and whether it is a new contact), adding the energy the dropped histories held to
-    /// `lost` (a ghost's left to its owner).
-    #[inline(always)]
-    fn set_pair(
-        &mut self,
-        first: usize,
-        slots: impl Iterator<Item = (Option<ContactPoint>, Option<OverlapVolume>, bool)>,
-        bodies: &Bodies,
-        lost: &mut f64,
-    ) {
-        let counts = bodies.counts(self.entries.key[first].a as usize);
-        for (k, (point, volume, fresh)) in slots.enumerate() {
-            let l = self.set_region(first + k, point, volume, fresh);
-            if counts {
-                *lost += l;
-            }
-        }
-    }
-
-    /// Sets what entry `e` touches this step (its contact point and, for a polyhedron, the
-    /// overlap's volume; `None`: nothing); a contact that ends, or whose slot a new contact takes
-    /// (`fresh`), drops its history. Returns the energy the dropped history held.
-    ///
-    /// A contact that ends also gives up its load and report here, so that a regional entry
-    /// that does not touch holds what every entry apart holds (no history, a zero load and
-    /// report) before the contact laws run, and they can pass it by: of a sphere's four slots on
-    /// a mesh wall, one at most touches as a rule.
-    #[inline(always)]
+    /// Sets what entry `e` touches this step (see [`StorePass::set_region`]).
+    #[cfg(test)]
     pub(crate) fn set_region(
         &mut self,
         e: usize,
@@ -654,29 +618,7 @@ impl ContactStore {
         volume: Option<OverlapVolume>,
         fresh: bool,
     ) -> f64 {
-        let x = &mut self.entries;
-        let mut lost = 0.0;
-        if x.touching[e] && (fresh || point.is_none()) {
-            lost = x.stored_energy(e);
-            x.history[e] = History::default();
-            if let Some(spin) = x.spin.get_mut(e) {
-                *spin = SpinHistory::default();
-            }
-        }
-        if x.touching[e] && point.is_none() {
-            self.load[e] = PartnerLoad::default();
-            if let Some(report) = self.report.get_mut(e) {
-                *report = LawReport::default();
-            }
-        }
-        x.touching[e] = point.is_some();
-        if let Some(point) = point {
-            x.geometry[e] = point;
-            if let Some(v) = self.volume.get_mut(e) {
-                *v = volume;
-            }
-        }
-        lost
+        self.entries_mut().set_region(e, point, volume, fresh)
     }
 
     /// The contacts that touch, in store order (see [`Contacts`](super::Contacts)).
@@ -747,6 +689,7 @@ impl EntryState<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::SPHERE_MESH_REGIONS;
     use crate::math::DVec3;
 
     fn touching_at(z: f64) -> ContactPoint {
@@ -1011,50 +954,65 @@ mod tests {
     }
 
     /// A sphere on a mesh wall has four slots, a polyhedron eight; each kind has its list of
-    /// first entries, and `set_regions` sets both, booking the energy of the histories that
-    /// end in store order whatever the pairs' kinds.
+    /// first entries. `set_regions` sets the polyhedra's, booking the energy of the histories
+    /// that end in store order; the spheres' are left to the contact loop's chunks.
     #[test]
-    fn regional_pairs_and_spheres_on_meshes_are_set_in_store_order() {
+    fn regional_pairs_and_spheres_on_meshes_are_listed_apart() {
         let mut store = ContactStore::default();
         let regional = |a, partner, kind| Candidate { a, partner, kind };
         let list = [
             regional(0, Partner::Mesh(0), PairKind::SphereOnMesh),
             regional(1, Partner::Body(2), PairKind::Regional),
             regional(1, Partner::Mesh(0), PairKind::Regional),
+            regional(1, Partner::Mesh(1), PairKind::Regional),
             regional(2, Partner::Mesh(0), PairKind::SphereOnMesh),
         ];
         store.set_candidates(&list, &numbered(3), kept(true, true));
         let (four, eight) = (SPHERE_MESH_REGIONS, MAX_REGIONS);
-        assert_eq!(store.entries(), 2 * four + 2 * eight);
+        assert_eq!(store.entries(), 2 * four + 3 * eight);
         assert_eq!(
             store.spheres_on_mesh(),
-            &[0, four as u32 + 2 * eight as u32]
+            &[0, four as u32 + 3 * eight as u32]
         );
-        assert_eq!(store.regional(), &[four as u32, (four + eight) as u32]);
-        // Every pair touches in its last slot, with a spring holding 2^53, 1, 1 and 2 J (in
-        // store order): added in another order, the sum rounds otherwise.
+        assert_eq!(
+            store.regional(),
+            &[
+                four as u32,
+                (four + eight) as u32,
+                (four + 2 * eight) as u32
+            ]
+        );
+        // Every pair touches in its last slot, with a spring holding 2 J (the spheres), and
+        // 2^53, 1 and 1 J (the polyhedra, in store order): added in another order, the sum
+        // rounds otherwise.
         let lasts = [
             four - 1,
             four + eight - 1,
             four + 2 * eight - 1,
-            2 * four + 2 * eight - 1,
+            four + 3 * eight - 1,
+            2 * four + 3 * eight - 1,
         ];
-        let springs = [(4.0, 2f64.powi(26)), (2.0, 1.0), (2.0, 1.0), (4.0, 1.0)];
+        let springs = [
+            (4.0, 1.0),
+            (4.0, 2f64.powi(26)),
+            (2.0, 1.0),
+            (2.0, 1.0),
+            (4.0, 1.0),
+        ];
         for (&e, &(stiffness, spring)) in lasts.iter().zip(&springs) {
             store.set_region(e, Some(touching_at(0.0)), None, false);
             let history = &mut store.entries.history[e];
             history.tangential_stiffness = stiffness;
             history.tangential_spring = DVec3::X * spring;
         }
-        // Next step nothing touches: the energies come back as one sum in store order.
-        let none_polyhedral = vec![[Assigned::default(); MAX_REGIONS]; 2];
-        let none_on_mesh = vec![[Assigned::default(); SPHERE_MESH_REGIONS]; 2];
-        let lost = store.set_regions(&none_polyhedral, &none_on_mesh, &numbered(3));
-        let in_order = ((2f64.powi(53) + 1.0) + 1.0) + 2.0;
-        let kinds_apart = ((2f64.powi(53) + 2.0) + 1.0) + 1.0;
-        assert_ne!(in_order, kinds_apart);
+        // Next step no polyhedron touches: their energies come back as one sum in store order.
+        let none = vec![[Assigned::default(); MAX_REGIONS]; 3];
+        let lost = store.set_regions(&none, &numbered(3));
+        let in_order = (2f64.powi(53) + 1.0) + 1.0;
+        assert_ne!(in_order, 2f64.powi(53) + (1.0 + 1.0));
         assert_eq!(lost.to_bits(), in_order.to_bits());
-        assert!(lasts.iter().all(|&e| !store.touching()[e]));
+        assert!(lasts[1..4].iter().all(|&e| !store.touching()[e]));
+        assert!(store.touching()[lasts[0]] && store.touching()[lasts[4]]);
     }
 
     /// Regression (the contact loop passes by regional entries that do not touch): a region

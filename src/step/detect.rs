@@ -5,8 +5,8 @@
 
 use crate::body::Bodies;
 use crate::contact::{
-    assign_regions, Assigned, ContactKey, ContactStore, EntryState, Partner, MAX_REGIONS,
-    SPHERE_MESH_REGIONS,
+    assign_regions, Assigned, ContactKey, ContactStore, EntryState, Partner, StorePass,
+    MAX_REGIONS, SPHERE_MESH_REGIONS,
 };
 use crate::contact_law::PolyhedralLaw;
 use crate::math::{Aabb, DVec3};
@@ -15,10 +15,10 @@ use crate::narrow_phase::{
     RegionScratch,
 };
 use crate::shape::Shape;
-use crate::step::prefetch::prefetch;
 use crate::wall::{MeshWall, Plane};
 use rayon::prelude::*;
 use std::cell::RefCell;
+use std::ops::Range;
 
 /// Working memory of the narrow phase, one per worker thread for the life of the thread (kept in a
 /// thread-local, so parallel jobs do not build it afresh).
@@ -61,16 +61,20 @@ impl<'a> Scene<'a> {
     }
 }
 
-/// How many spheres on mesh walls ahead [`detect_regions`] asks for a pair's data.
-const PREFETCH_AHEAD: usize = 8;
-
-/// Regions matched to their slots, per pair with several entries (reused from step to step),
-/// and the triangles each sphere on a mesh wall may touch while the neighbour list lasts.
+/// Regions matched to their slots, per polyhedral pair with several entries (reused from step
+/// to step), and the triangles each sphere on a mesh wall may touch while the neighbour list
+/// lasts.
 #[derive(Default)]
 pub struct RegionOutput {
     assigned: Vec<[Assigned; MAX_REGIONS]>,
-    on_mesh: Vec<[Assigned<ContactPoint>; SPHERE_MESH_REGIONS]>,
     near: NearTriangles,
+}
+
+impl RegionOutput {
+    /// The triangles near each sphere on a mesh wall, for [`set_spheres_on_mesh`].
+    pub fn near_triangles(&self) -> &NearTriangles {
+        &self.near
+    }
 }
 
 /// The triangles near each sphere on a mesh wall (`near[first[h]..first[h + 1]]` for the
@@ -78,7 +82,7 @@ pub struct RegionOutput {
 /// `list` (`ContactStore::list_id`) and the skin `skin`: those within the sphere's radius and
 /// two skins of where it was then.
 #[derive(Default)]
-struct NearTriangles {
+pub struct NearTriangles {
     list: u64,
     skin: f64,
     first: Vec<u32>,
@@ -86,6 +90,18 @@ struct NearTriangles {
 }
 
 impl NearTriangles {
+    /// No lists (a world without spheres on mesh walls).
+    #[cfg(test)]
+    pub fn none() -> &'static NearTriangles {
+        static NONE: NearTriangles = NearTriangles {
+            list: 0,
+            skin: 0.0,
+            first: Vec::new(),
+            near: Vec::new(),
+        };
+        &NONE
+    }
+
     /// Makes the lists again if the store holds another list of candidates than they were made
     /// for. A list stays while no body has moved more than half the skin since it was made, nor
     /// any wall (`candidates::NeighbourSearch`): a sphere then stays within a skin of where it
@@ -140,15 +156,21 @@ fn sphere_and_wall<'a>(scene: Scene<'a>, key: &ContactKey) -> (DVec3, f64, &'a M
     (x, sphere.radius, wall)
 }
 
-/// The geometry of every pair that may touch in several places, matched to last step's regions.
-/// Returns the energy held by the history of region contacts that ended or gave their slot to a
-/// new contact (dissipated). `skin`: the neighbour search's (see [`NearTriangles::update`]).
+/// The geometry of every polyhedral pair that may touch in several places, matched to last
+/// step's regions, and the triangles near each sphere on a mesh wall (whose slots the contact
+/// loop sets, [`set_spheres_on_mesh`]). Returns the energy held by the history of region
+/// contacts that ended or gave their slot to a new contact (dissipated). `skin`: the neighbour
+/// search's (see [`NearTriangles::update`]).
 pub fn detect_regions(
     scene: Scene,
     store: &mut ContactStore,
     regions: &mut RegionOutput,
     skin: f64,
 ) -> f64 {
+    regions.near.update(scene, store, skin);
+    if store.regional().is_empty() {
+        return 0.0;
+    }
     let (touching, geometry) = (store.touching(), store.geometry());
     let keys = store.keys();
     store
@@ -166,39 +188,42 @@ pub fn detect_regions(
             })
         })
         .collect_into_vec(&mut regions.assigned);
-    // Spheres on mesh walls, the most numerous regional pairs: the same rule on contact points
-    // alone (a sphere's contacts have no volume), four slots, only what a sphere needs read, and
-    // the triangles near it listed once per neighbour list.
-    regions.near.update(scene, store, skin);
-    let near = &regions.near;
-    let on_mesh = store.spheres_on_mesh();
-    on_mesh
-        .par_iter()
-        .enumerate()
-        .with_min_len(16)
-        .map(|(h, &first)| {
-            // The spheres at a wall lie scattered over the bodies and the store: ask for what
-            // the pair some pairs ahead will read, so that its misses overlap with this work.
-            if let Some(&ahead) = on_mesh.get(h + PREFETCH_AHEAD) {
-                let (ahead, bodies) = (ahead as usize, scene.bodies);
-                let a = keys[ahead].a as usize;
-                prefetch(&bodies.position[a]);
-                prefetch(&bodies.shape[a]);
-                prefetch(&bodies.equivalent_radius[a]);
-                prefetch(&touching[ahead]);
-                prefetch(&geometry[ahead]);
-            }
-            let first = first as usize;
+    store.set_regions(&regions.assigned, scene.bodies)
+}
+
+/// The contacts of the spheres on mesh walls `spheres` (indices into the store's
+/// `spheres_on_mesh`, whose first entries are `first_entries`) among the triangles `near`
+/// lists for them, matched to last step's by the rule of `contact::assign_regions` on contact
+/// points alone (a sphere's contacts have no volume) and set in their four slots, in `pass`: a
+/// chunk of the contact loop, whose first entry is the store's `chunk_first`. Done there rather
+/// than in a stage of its own, the most numerous regional pairs' slots are set while in the
+/// cache, in parallel with the rest of the chunk's work. Returns the energy the histories that
+/// ended or gave their slot to a new contact held (dissipated), added up in store order.
+pub(crate) fn set_spheres_on_mesh(
+    scene: Scene,
+    near: &NearTriangles,
+    (first_entries, spheres): (&[u32], Range<usize>),
+    pass: &mut StorePass,
+    chunk_first: usize,
+) -> f64 {
+    let mut lost = 0.0;
+    if spheres.is_empty() {
+        return lost;
+    }
+    SCRATCH.with_borrow_mut(|s| {
+        for h in spheres {
+            let k = first_entries[h] as usize - chunk_first;
             let previous: [Option<ContactPoint>; SPHERE_MESH_REGIONS] =
-                std::array::from_fn(|k| touching[first + k].then(|| geometry[first + k]));
-            SCRATCH.with_borrow_mut(|s| {
-                let (found, reach) = sphere_on_mesh(scene, &keys[first], near.of(h), s);
-                let assigned = assign_regions(&previous, found, reach);
-                std::array::from_fn(|k| assigned[k])
-            })
-        })
-        .collect_into_vec(&mut regions.on_mesh);
-    store.set_regions(&regions.assigned, &regions.on_mesh, scene.bodies)
+                std::array::from_fn(|i| pass.touching[k + i].then(|| pass.geometry[k + i]));
+            let (found, reach) = sphere_on_mesh(scene, &pass.key[k], near.of(h), s);
+            let assigned = assign_regions(&previous, found, reach);
+            let slots = assigned[..SPHERE_MESH_REGIONS]
+                .iter()
+                .map(|a| (a.geometry, None, a.fresh));
+            pass.set_pair(k, slots, scene.bodies, &mut lost);
+        }
+    });
+    lost
 }
 
 /// The narrow phase of entry `k`, a pair that touches in one place at most (regional entries are

@@ -6,8 +6,8 @@
 
 use crate::body::Bodies;
 use crate::contact::{
-    ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind, Partner,
-    StorePass,
+    Chunks, ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind,
+    Partner, StorePass,
 };
 use crate::contact_law::{
     self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
@@ -37,6 +37,9 @@ pub struct LawInputs<'a> {
     pub laws: &'a PairTable,
     /// Each body's motion packed for the contact loops ([`pack_motion`]).
     pub motion: &'a [BodyMotion],
+    /// The triangles near each sphere on a mesh wall, among which the contact loop finds its
+    /// contacts ([`detect::set_spheres_on_mesh`]).
+    pub near_triangles: &'a detect::NearTriangles,
     /// 1/Δt, Δt the world's time step: the interval the forces found will act over, on which
     /// the dashpots are bounded (`contact_law::DashpotLimit`), whatever interval the histories
     /// advance by (none when the forces are found again between steps). Computed once per step,
@@ -82,6 +85,7 @@ impl<'a> LawInputs<'a> {
             wall_states: &[],
             laws,
             motion,
+            near_triangles: detect::NearTriangles::none(),
             inverse_step,
         }
     }
@@ -187,12 +191,13 @@ impl LawInputs<'_> {
     }
 }
 
-/// Evaluates the contact law of every touching contact of a chunk of entries (`pass`, the entries
-/// of whole bodies, the first of them `first_body`) over the step `dt` (sphere pairs find their
-/// contact here too, see [`spheres`](super::spheres)). A contact that ended forgets its history;
-/// the energy its springs held is booked as dissipated. Returns the energy the chunk's contacts
-/// dissipated over the step, summed in entry order (those of a ghost's contacts left to its
-/// owner).
+/// Evaluates the contact law of every touching contact of chunk `c` of `chunks` (`pass`, the
+/// entries of whole bodies) over the step `dt` (sphere pairs find their contact here too, see
+/// [`spheres`](super::spheres), and spheres on mesh walls theirs first, see
+/// [`detect::set_spheres_on_mesh`]). A contact that ended forgets its history; the energy its
+/// springs held is booked as dissipated. Returns the energy the chunk's contacts dissipated over
+/// the step: the spheres on mesh walls' ended regions first, then each entry's, summed in entry
+/// order (those of a ghost's contacts left to its owner).
 ///
 /// The laws write each load's partner side into the store, for [`accumulate`], and body `a`'s
 /// side into the thread's scratch, which is added into `own` (the chunk's bodies' sums) after
@@ -207,18 +212,25 @@ pub(crate) fn evaluate(
     inputs: LawInputs,
     mut pass: StorePass,
     mut own: OwnSums,
-    first_body: usize,
+    (chunks, c): (Chunks, usize),
     dt: f64,
 ) -> f64 {
     own.force.fill(DVec3::ZERO);
     own.torque.fill(DVec3::ZERO);
+    let first_body = chunks.bodies[c] as usize;
     let mut evaluate_runs = |scratch: &mut Scratch| {
         let Scratch {
             sorted,
             own_loads,
             dissipated: lost,
         } = scratch;
-        let mut dissipated = 0.0;
+        let mut dissipated = detect::set_spheres_on_mesh(
+            inputs.scene,
+            inputs.near_triangles,
+            (chunks.spheres_on_mesh, chunks.spheres_on_mesh(c)),
+            &mut pass,
+            chunks.first_entry(c),
+        );
         let (keys, count) = (pass.key, pass.len());
         for start in (0..count).step_by(RUN) {
             let run = start..(start + RUN).min(count);
@@ -312,7 +324,7 @@ const RUN: usize = crate::contact::CHUNK_ENTRIES;
 /// (in worlds where they take the four-wide path, see [`plane_lanes`]), spheres that touch a mesh
 /// wall ([`mesh_lanes`]), sphere pairs and spheres on planes that touched and no longer do, and
 /// the others (those that stay apart need nothing, nor do the regions that do not touch, see
-/// `ContactStore::set_region`). Whether a candidate touches is a coin toss, so the sort is done
+/// `StorePass::set_region`). Whether a candidate touches is a coin toss, so the sort is done
 /// without a branch on it: every entry is written at the end of each list, and the list's
 /// length grows by one where it belongs there.
 struct Sorted {
@@ -377,7 +389,7 @@ impl Sorted {
                 ended += (!touches & state.touching[k]) as usize;
             } else {
                 // A regional entry that does not touch was left as an entry apart is left (see
-                // `ContactStore::set_region`): nothing to do.
+                // `StorePass::set_region`): nothing to do.
                 let on_mesh = kind == PairKind::SphereOnMesh;
                 self.meshes[meshes] = k as u32;
                 meshes += (on_mesh & state.touching[k]) as usize;

@@ -3,7 +3,8 @@
 //! 1. [`candidates`] — the neighbour search: which bodies and partners may touch (made again only
 //!    when something has moved more than half the skin);
 //! 2. [`detect`] — the narrow phase: the contact geometry of every candidate, into the contact
-//!    store (pairs that may touch in several places first, then the rest);
+//!    store (polyhedral pairs that may touch in several places first; spheres on mesh walls at
+//!    the start of each chunk of stage 3, then the rest);
 //! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact, and
 //!    each body's sum of its own contacts' loads;
 //! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is,
@@ -85,8 +86,7 @@ fn evaluate_chunks(
     dt: f64,
 ) {
     if range.len() == 1 {
-        let first_body = chunks.bodies[range.start] as usize;
-        partial[0] = forces::evaluate(*laws, pass, own, first_body, dt);
+        partial[0] = forces::evaluate(*laws, pass, own, (chunks, range.start), dt);
         return;
     }
     let mid = range.start + range.len() / 2;

@@ -315,6 +315,7 @@ mod tests {
                 wall_states: &[],
                 laws,
                 motion: &motion,
+                near_triangles: crate::step::detect::NearTriangles::none(),
                 inverse_step: 1.0 / step,
             };
             let key: Vec<ContactKey> = (0..4)

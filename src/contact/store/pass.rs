@@ -2,7 +2,8 @@
 //! into chunks of whole bodies, so that each chunk can add up its bodies' own contacts itself,
 //! and each chunk into runs, whose loads live in the loop's scratch until they are summed.
 
-use super::{ContactStore, EntryIds, EntryState};
+use super::{ContactStore, EntryIds, EntryState, Persistent};
+use crate::body::Bodies;
 use crate::contact::key::{ContactKey, PairKind};
 use crate::contact::load::{LawReport, OwnLoad, PartnerLoad};
 use crate::contact_law::{History, OverlapVolume, SpinHistory};
@@ -119,12 +120,79 @@ impl<'a> StorePass<'a> {
     }
 }
 
+impl StorePass<'_> {
+    /// Sets what entry `k` touches this step (its contact point and, for a polyhedron, the
+    /// overlap's volume; `None`: nothing); a contact that ends, or whose slot a new contact takes
+    /// (`fresh`), drops its history. Returns the energy the dropped history held.
+    ///
+    /// A contact that ends also gives up its load and report here, so that a regional entry
+    /// that does not touch holds what every entry apart holds (no history, a zero load and
+    /// report) before the contact laws run, and they can pass it by: of a sphere's four slots on
+    /// a mesh wall, one at most touches as a rule.
+    #[inline(always)]
+    pub fn set_region(
+        &mut self,
+        k: usize,
+        point: Option<ContactPoint>,
+        volume: Option<OverlapVolume>,
+        fresh: bool,
+    ) -> f64 {
+        let mut lost = 0.0;
+        if self.touching[k] && (fresh || point.is_none()) {
+            lost = self.history[k].stored_energy()
+                + self.spin.get(k).map_or(0.0, SpinHistory::stored_energy);
+            self.history[k] = History::default();
+            if let Some(spin) = self.spin.get_mut(k) {
+                *spin = SpinHistory::default();
+            }
+        }
+        if self.touching[k] && point.is_none() {
+            self.load[k] = PartnerLoad::default();
+            if let Some(report) = self.report.get_mut(k) {
+                *report = LawReport::default();
+            }
+        }
+        self.touching[k] = point.is_some();
+        if let Some(point) = point {
+            self.geometry[k] = point;
+            if let Some(v) = self.volume.get_mut(k) {
+                *v = volume;
+            }
+        }
+        lost
+    }
+}
+
+impl StorePass<'_> {
+    /// Sets the slots of the pair whose entries start at `k` (each slot's contact point, volume
+    /// and whether it is a new contact), adding the energy the dropped histories held to `lost`
+    /// one by one (unless the pair's body is a ghost, whose energy its owner books).
+    #[inline(always)]
+    pub fn set_pair(
+        &mut self,
+        k: usize,
+        slots: impl Iterator<Item = (Option<ContactPoint>, Option<OverlapVolume>, bool)>,
+        bodies: &Bodies,
+        lost: &mut f64,
+    ) {
+        let counts = bodies.counts(self.key[k].a as usize);
+        for (i, (point, volume, fresh)) in slots.enumerate() {
+            let l = self.set_region(k + i, point, volume, fresh);
+            if counts {
+                *lost += l;
+            }
+        }
+    }
+}
+
 /// Where the contact loop's chunks start: `bodies[c]` is chunk `c`'s first body (the last
-/// number is the count of bodies), and `own[i]` body `i`'s first entry.
+/// number is the count of bodies), and `own[i]` body `i`'s first entry; and the first entries
+/// of the spheres on mesh walls, whose slots each chunk sets (`step::detect`).
 #[derive(Clone, Copy)]
 pub(crate) struct Chunks<'a> {
     pub bodies: &'a [u32],
     pub own: &'a [u32],
+    pub spheres_on_mesh: &'a [u32],
 }
 
 impl Chunks<'_> {
@@ -136,6 +204,16 @@ impl Chunks<'_> {
     /// The first entry of chunk `c` (`c` = [`Chunks::len`]: the end of the last).
     pub fn first_entry(&self, c: usize) -> usize {
         self.own[self.bodies[c] as usize] as usize
+    }
+
+    /// The spheres on mesh walls whose entries are in chunk `c`: indices into
+    /// `spheres_on_mesh` (a sphere's entries are all in its body's chunk).
+    pub fn spheres_on_mesh(&self, c: usize) -> Range<usize> {
+        let first = |c: usize| {
+            let entry = self.first_entry(c) as u32;
+            self.spheres_on_mesh.partition_point(|&f| f < entry)
+        };
+        first(c)..first(c + 1)
     }
 }
 
@@ -167,24 +245,49 @@ impl ContactStore {
             self.entries.key.is_empty() || !self.own.is_empty(),
             "a pass over a store whose index lists are stale"
         );
-        let e = &mut self.entries;
         (
-            StorePass {
-                key: &e.key,
-                kind: &e.kind,
-                touching: &mut e.touching,
-                geometry: &mut e.geometry,
-                volume: &mut self.volume,
-                history: &mut e.history,
-                spin: &mut e.spin,
-                report: &mut self.report,
-                load: &mut self.load,
-            },
+            pass_over(
+                &mut self.entries,
+                &mut self.volume,
+                &mut self.report,
+                &mut self.load,
+            ),
             Chunks {
                 bodies: &self.chunks,
                 own: &self.own,
+                spheres_on_mesh: &self.spheres_on_mesh,
             },
         )
+    }
+
+    /// Every entry, as [`ContactStore::pass_mut`] gives them (without the chunks).
+    pub(crate) fn entries_mut(&mut self) -> StorePass<'_> {
+        pass_over(
+            &mut self.entries,
+            &mut self.volume,
+            &mut self.report,
+            &mut self.load,
+        )
+    }
+}
+
+/// The store's per-entry arrays as one pass.
+fn pass_over<'a>(
+    e: &'a mut Persistent,
+    volume: &'a mut [Option<OverlapVolume>],
+    report: &'a mut [LawReport],
+    load: &'a mut [PartnerLoad],
+) -> StorePass<'a> {
+    StorePass {
+        key: &e.key,
+        kind: &e.kind,
+        touching: &mut e.touching,
+        geometry: &mut e.geometry,
+        volume,
+        history: &mut e.history,
+        spin: &mut e.spin,
+        report,
+        load,
     }
 }
 
