@@ -1,7 +1,8 @@
 //! Four spheres on mesh walls at once: the general path of a touching sphere–mesh region
 //! (`forces::LawInputs::respond` for a mesh partner, `contact_law::evaluate_point` or `evaluate`,
 //! `Load::new`) in four lanes, as `step::plane_lanes` does for spheres on planes, from the contact
-//! geometry the narrow phase left in the store (`step::detect::set_spheres_on_mesh`, at the start of the chunk).
+//! geometry the narrow phase left in the store at the start of the chunk
+//! (`step::detect::set_spheres_on_mesh`).
 //!
 //! In drums, chutes and hoppers every sphere at the wall touches a mesh, and each of those
 //! contacts took the general path one by one (`respond` and the work around it, some 5 % of the
