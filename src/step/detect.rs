@@ -15,6 +15,7 @@ use crate::narrow_phase::{
     RegionScratch,
 };
 use crate::shape::Shape;
+use crate::step::prefetch::prefetch;
 use crate::wall::{MeshWall, Plane};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -60,6 +61,9 @@ impl<'a> Scene<'a> {
         }
     }
 }
+
+/// How many spheres on mesh walls ahead [`set_spheres_on_mesh`] asks for their slots.
+const PREFETCH_AHEAD: usize = 2;
 
 /// Regions matched to their slots, per polyhedral pair with several entries (reused from step
 /// to step), and the triangles each sphere on a mesh wall may touch while the neighbour list
@@ -210,8 +214,23 @@ pub(crate) fn set_spheres_on_mesh(
     if spheres.is_empty() {
         return lost;
     }
+    // The chunk's entries are read here for the first time this step: ask for the slots of the
+    // sphere some spheres ahead while this one's triangles are searched.
+    let in_chunk = &first_entries[..spheres.end];
+    let ask_for = |h: usize, pass: &StorePass| {
+        if let Some(&first) = in_chunk.get(h) {
+            let k = first as usize - chunk_first;
+            prefetch(&pass.geometry[k]);
+            prefetch(&pass.geometry[k + SPHERE_MESH_REGIONS - 1]);
+            prefetch(&pass.touching[k]);
+        }
+    };
+    for h in spheres.start..spheres.start + PREFETCH_AHEAD {
+        ask_for(h, pass);
+    }
     SCRATCH.with_borrow_mut(|s| {
         for h in spheres {
+            ask_for(h + PREFETCH_AHEAD, pass);
             let k = first_entries[h] as usize - chunk_first;
             let previous: [Option<ContactPoint>; SPHERE_MESH_REGIONS] =
                 std::array::from_fn(|i| pass.touching[k + i].then(|| pass.geometry[k + i]));
