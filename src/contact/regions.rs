@@ -71,17 +71,18 @@ impl<G> Default for Assigned<G> {
     }
 }
 
-/// Assigns the regions `found` (at most [`MAX_REGIONS`] are taken) to the slots of a pair whose
-/// contacts last step were `previous` (by slot; `None` where the slot was free; as many slots as
-/// `previous` has).
-pub fn assign_regions<G: Region>(
-    previous: &[Option<G>],
+/// Assigns the regions `found` (at most [`MAX_REGIONS`] are taken) to the `N` slots of a pair
+/// whose contacts last step were `previous` (by slot; `None` where the slot was free): a
+/// polyhedron's [`MAX_REGIONS`], a sphere's four on a mesh wall (what it is given does not
+/// depend on `N` beyond the slots it has).
+pub fn assign_regions<G: Region, const N: usize>(
+    previous: &[Option<G>; N],
     found: &[G],
     reach: f64,
-) -> [Assigned<G>; MAX_REGIONS] {
-    debug_assert!(previous.len() <= MAX_REGIONS);
-    let mut out = [Assigned::default(); MAX_REGIONS];
-    let mut claimed = [false; MAX_REGIONS];
+) -> [Assigned<G>; N] {
+    const { assert!(N <= MAX_REGIONS) };
+    let mut out = [Assigned::default(); N];
+    let mut claimed = [false; N];
     let mut waiting = [None; MAX_REGIONS];
     let mut waiting_count = 0;
     for g in found.iter().take(MAX_REGIONS) {
@@ -108,7 +109,7 @@ pub fn assign_regions<G: Region>(
             }
         }
     }
-    let slots = previous.len();
+    let slots = N;
     let was_free = |slot: usize| previous[slot].is_none();
     for g in waiting.iter().take(waiting_count).flatten() {
         let slot = (0..slots)

@@ -236,9 +236,7 @@ pub(crate) fn set_spheres_on_mesh(
                 std::array::from_fn(|i| pass.touching[k + i].then(|| pass.geometry[k + i]));
             let (found, reach) = sphere_on_mesh(scene, &pass.key[k], near.of(h), s);
             let assigned = assign_regions(&previous, found, reach);
-            let slots = assigned[..SPHERE_MESH_REGIONS]
-                .iter()
-                .map(|a| (a.geometry, None, a.fresh));
+            let slots = assigned.iter().map(|a| (a.geometry, None, a.fresh));
             pass.set_pair(k, slots, scene.bodies, &mut lost);
         }
     });
