@@ -426,12 +426,10 @@ mod tests {
         }
     }
 
-    /// The contacts found among a longer list of triangles (those near a box enlarged by a
-    /// skin) are those the mesh's own query gives, to the bit: on a flat floor, in the corners
-    /// and along the edges of a closed box, on convex edges.
-    #[test]
-    fn contacts_among_a_longer_list_are_the_same() {
-        let walls = [
+    /// A flat floor, and the unit box facing in and facing out: flat faces, concave and convex
+    /// edges and corners.
+    fn floor_and_boxes() -> [MeshWall; 3] {
+        [
             floor(10),
             box_mesh(DVec3::ZERO, DVec3::ONE, 4, Facing::Inward)
                 .unwrap()
@@ -441,7 +439,15 @@ mod tests {
                 .unwrap()
                 .into_wall(0)
                 .unwrap(),
-        ];
+        ]
+    }
+
+    /// The contacts found among a longer list of triangles (those near a box enlarged by a
+    /// skin) are those the mesh's own query gives, to the bit: on a flat floor, in the corners
+    /// and along the edges of a closed box, on convex edges.
+    #[test]
+    fn contacts_among_a_longer_list_are_the_same() {
+        let walls = floor_and_boxes();
         let mut rng = Rng::new(17);
         let (mut scratch, mut near) = (MeshScratch::default(), Vec::new());
         let (mut queried, mut among) = (Vec::new(), Vec::new());
@@ -471,17 +477,7 @@ mod tests {
     /// a floor of squares cut in two, the far half of a square).
     #[test]
     fn contacts_among_the_triangles_within_reach_are_the_same() {
-        let walls = [
-            floor(10),
-            box_mesh(DVec3::ZERO, DVec3::ONE, 4, Facing::Inward)
-                .unwrap()
-                .into_wall(0)
-                .unwrap(),
-            box_mesh(DVec3::ZERO, DVec3::ONE, 3, Facing::Outward)
-                .unwrap()
-                .into_wall(0)
-                .unwrap(),
-        ];
+        let walls = floor_and_boxes();
         let mut rng = Rng::new(23);
         let (mut scratch, mut within, mut boxed) = (MeshScratch::default(), Vec::new(), Vec::new());
         let (mut queried, mut among) = (Vec::new(), Vec::new());

@@ -161,9 +161,7 @@ impl StorePass<'_> {
         }
         lost
     }
-}
 
-impl StorePass<'_> {
     /// Sets the slots of the pair whose entries start at `k` (each slot's contact point, volume
     /// and whether it is a new contact), adding the energy the dropped histories held to `lost`
     /// one by one (unless the pair's body is a ghost, whose energy its owner books).
