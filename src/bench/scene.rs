@@ -376,8 +376,8 @@ pub fn write_bodies(world: &World, out: &mut impl Write) -> std::io::Result<()> 
 mod tests {
     use super::*;
 
-    /// Two spheres pressed slightly together on a floor, and a cube resting on the floor apart.
-    const SCENE: &str = r#"
+    /// The step and the material of the test scenes.
+    const HEADER: &str = r#"
 [simulation]
 time_step = 1.0e-6
 duration = 1.0e-3
@@ -389,7 +389,10 @@ youngs_modulus = 1.0e7
 poisson_ratio = 0.25
 restitution = 0.5
 friction = 0.5
+"#;
 
+    /// Two spheres pressed slightly together on a floor, and a cube resting on the floor apart.
+    const BODIES: &str = r#"
 [shape.cube]
 type = "box"
 edges = [0.01, 0.01, 0.01]
@@ -417,7 +420,7 @@ position = [0.05, 0.0, 0.004999]
 
     fn scene_file(dir: &tempfile::TempDir) -> std::path::PathBuf {
         let file = dir.path().join("three.toml");
-        std::fs::write(&file, SCENE).unwrap();
+        std::fs::write(&file, format!("{HEADER}{BODIES}")).unwrap();
         file
     }
 
@@ -457,19 +460,7 @@ position = [0.05, 0.0, 0.004999]
     fn mesh_floor_scene(dir: &tempfile::TempDir, motion: &str) -> std::path::PathBuf {
         let file = dir.path().join("floor.toml");
         let text = format!(
-            r#"
-[simulation]
-time_step = 1.0e-6
-duration = 1.0e-3
-
-[[material]]
-name = "m"
-density = 2500.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.25
-restitution = 0.5
-friction = 0.5
-
+            r#"{HEADER}
 [[mesh_wall]]
 material = "m"
 generator = {{ type = "rectangle", origin = [-0.01, -0.02, 0.0], u = [0.03, 0.0, 0.0], v = [0.0, 0.04, 0.0] }}
