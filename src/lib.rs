@@ -7,6 +7,7 @@
 pub mod bench;
 pub mod body;
 pub mod broad_phase;
+mod busy;
 pub mod checkpoint;
 pub mod contact;
 pub mod contact_law;
