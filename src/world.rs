@@ -278,8 +278,9 @@ impl World {
             walls: &self.mesh_walls,
             law: self.polyhedral_law,
         };
-        let skin = self.search.skin();
-        self.dissipated += step::detect_regions(scene, &mut self.contacts, &mut self.regions, skin);
+        let reach = (self.search.skin(), self.search.margins());
+        self.dissipated +=
+            step::detect_regions(scene, &mut self.contacts, &mut self.regions, reach);
         clock.lap(&mut self.times.regions);
         let laws = LawInputs {
             scene,

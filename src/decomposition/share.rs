@@ -120,6 +120,9 @@ impl Share {
     /// share's region as ghosts, and forgets the last drawing.
     fn start_from_whole(&mut self, cuts: &Decomposition) {
         let world = &mut self.world;
+        // The ghost layer and the look-ahead at the bodies' next move assume half a skin for
+        // every body, and the two largest moves' rule.
+        world.set_uniform_margins();
         world.update_contacts();
         // The share's numbering is its own business; bodies keep the order they came in.
         world.set_sort_interval(0);

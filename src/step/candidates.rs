@@ -1,11 +1,12 @@
 //! Stage 1 of the contact pipeline: the candidate contacts, i.e. the bodies and partners (other
 //! bodies, planes, mesh walls) that are close enough to touch before the list is made again.
 //!
-//! The list is made with a skin: boxes enlarged by half the skin on each side. It stays valid until
-//! some body has moved more than half the skin, or a moving mesh wall has (Verlet 1967's neighbour
-//! list idea): until then no two bodies outside each other's enlarged boxes can touch, nor a body
-//! and a wall more than a skin apart. Body pairs come from the broad phase (the Linked Linear List
-//! by default).
+//! The list is made with a skin: each body's box enlarged by its margin on each side, half the skin
+//! or, for a body faster than the bulk, more ([`margins`](super::margins)). It stays valid until
+//! some body has moved beyond its margin, or a moving mesh wall more than half the skin (Verlet
+//! 1967's neighbour list idea): until then no two bodies outside each other's enlarged boxes can
+//! touch, nor a body and a wall farther apart than the list looked. Body pairs come from the broad
+//! phase (the Linked Linear List by default).
 
 use crate::body::Bodies;
 use crate::broad_phase::{self, BroadPhase, Pair};
@@ -14,6 +15,7 @@ use crate::groups::{for_each_group_mut, sort_short_by_key};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
 use crate::step::lookahead::{largest_two_of, with_largest_two};
+use crate::step::margins::{self, Margins};
 use crate::tight::reserve_tight;
 use crate::wall::{MeshWall, Plane, WallPose};
 use rayon::prelude::*;
@@ -26,6 +28,9 @@ pub struct NeighbourSearch {
     skin: f64,
     /// Where the bodies were when the list was made.
     reference_position: Vec<DVec3>,
+    /// How each body's margin is chosen, and each body's margin when the list was made.
+    margins: Margins,
+    margin: Vec<f64>,
     /// Where the mesh walls were when the list was made.
     reference_pose: Vec<WallPose>,
     valid: bool,
@@ -52,6 +57,9 @@ pub struct NeighbourSearch {
 pub struct SearchState {
     skin: f64,
     reference_position: Vec<DVec3>,
+    /// Empty in a checkpoint of a version before per-body margins: half the skin each.
+    #[serde(default)]
+    margin: Vec<f64>,
     reference_pose: Vec<WallPose>,
     valid: bool,
     rebuilds: u64,
@@ -64,6 +72,8 @@ impl NeighbourSearch {
             broad_phase: method.build(),
             skin,
             reference_position: Vec::new(),
+            margins: Margins::ByBody,
+            margin: Vec::new(),
             reference_pose: Vec::new(),
             valid: false,
             moves_checked: false,
@@ -86,6 +96,7 @@ impl NeighbourSearch {
         SearchState {
             skin: self.skin,
             reference_position: self.reference_position.clone(),
+            margin: self.margin.clone(),
             reference_pose: self.reference_pose.clone(),
             valid: self.valid,
             rebuilds: self.rebuilds,
@@ -99,6 +110,10 @@ impl NeighbourSearch {
         self.broad_phase = self.method.build();
         self.skin = state.skin;
         self.reference_position = state.reference_position;
+        self.margin = state.margin;
+        if self.margin.len() != self.reference_position.len() {
+            self.margin = vec![0.5 * self.skin; self.reference_position.len()];
+        }
         self.reference_pose = state.reference_pose;
         self.valid = state.valid;
         self.moves_checked = false;
@@ -108,6 +123,21 @@ impl NeighbourSearch {
     pub fn set_skin(&mut self, skin: f64) {
         self.skin = skin;
         self.valid = false;
+    }
+
+    /// Chooses the margins as `margins` says from the next list on (made anew at the next update
+    /// if they were chosen otherwise).
+    pub fn set_margins(&mut self, margins: Margins) {
+        if self.margins != margins {
+            self.margins = margins;
+            self.valid = false;
+        }
+    }
+
+    /// Each body's margin when the list was made (see [`margins`](super::margins)); empty before
+    /// the first list.
+    pub fn margins(&self) -> &[f64] {
+        &self.margin
     }
 
     /// Where the bodies were when the list was made (`None` when it must be made anew anyway).
@@ -165,10 +195,17 @@ impl NeighbourSearch {
         planes: &[Plane],
         walls: &[MeshWall],
     ) -> Option<Vec<Candidate>> {
-        let half_skin = 0.5 * self.skin;
         let moves_checked = std::mem::take(&mut self.moves_checked);
         if self.valid && !self.moved_too_far(bodies, walls, moves_checked) {
             return None;
+        }
+        let half_skin = 0.5 * self.skin;
+        match self.margins {
+            Margins::Uniform => {
+                self.margin.clear();
+                self.margin.resize(bodies.len(), half_skin);
+            }
+            Margins::ByBody => margins::by_speed(&bodies.velocity, half_skin, &mut self.margin),
         }
         self.boxes.clear();
         reserve_tight(&mut self.boxes, bodies.len());
@@ -177,7 +214,8 @@ impl NeighbourSearch {
                 .position
                 .par_iter()
                 .zip(&bodies.bounding_radius)
-                .map(|(&x, &r)| Aabb::around_sphere(x, r + half_skin)),
+                .zip(&self.margin)
+                .map(|((&x, &r), &margin)| Aabb::around_sphere(x, r + margin)),
         );
         self.broad_phase.find_pairs(&self.boxes, &mut self.pairs);
         // The boxes and the pairs are made anew at the next search: let go of them as soon as
@@ -197,16 +235,19 @@ impl NeighbourSearch {
         Some(list)
     }
 
-    /// Whether the list may have gone stale: two bodies that were more than a skin apart (their
-    /// bounding spheres' gap) may now touch once the two largest distances any bodies moved add up
-    /// to more than the skin (a pair comes at most as much closer as its two bodies moved); a
-    /// body may have reached a plane it was more than a skin away from once it moved a skin (the
-    /// two largest include it); with mesh walls, once a body moved half a skin (a wall's
-    /// triangles are candidates within a skin, and the wall may move the other half); a moving
-    /// wall, once it moved half a skin.
+    /// Whether the list may have gone stale: a moving wall, once it moved half a skin; the
+    /// bodies, by the rule of their margins.
     ///
-    /// The two largest rather than twice the largest: in a settling bed a few bodies still
-    /// bounce while the rest creep, and the list then lasts until the creep adds up.
+    /// [`Margins::ByBody`]: once a body moved beyond its own margin (see [`margins`](super::margins)).
+    ///
+    /// [`Margins::Uniform`] (half a skin each): two bodies that were more than a skin apart
+    /// (their bounding spheres' gap) may now touch once the two largest distances any bodies moved
+    /// add up to more than the skin (a pair comes at most as much closer as its two bodies
+    /// moved); a body may have reached a plane it was more than a skin away from once it moved a
+    /// skin (the two largest include it); with mesh walls, once a body moved half a skin (a
+    /// wall's triangles are candidates within a skin, and the wall may move the other half). The
+    /// two largest rather than twice the largest: in a settling bed a few bodies still bounce
+    /// while the rest creep, and the list then lasts until the creep adds up.
     ///
     /// `moves_checked`: the bodies' moves were found to call for no new list elsewhere.
     fn moved_too_far(&self, bodies: &Bodies, walls: &[MeshWall], moves_checked: bool) -> bool {
@@ -216,6 +257,15 @@ impl NeighbourSearch {
         });
         if wall_moved || moves_checked {
             return wall_moved;
+        }
+        if self.margins == Margins::ByBody {
+            return bodies
+                .position
+                .par_iter()
+                .zip(self.reference_position.par_iter())
+                .zip(self.margin.par_iter())
+                .with_min_len(4096)
+                .any(|((x, x0), &margin)| margins::beyond((*x - *x0).length_squared(), margin));
         }
         let moves = largest_two(
             bodies
@@ -228,13 +278,18 @@ impl NeighbourSearch {
         bodies_moved_too_far(moves, self.skin, !walls.is_empty())
     }
 
-    /// Planes within a skin of a body's bounding sphere (planes do not move, and a body moves at
-    /// most a skin before the list is made again), and mesh walls with a triangle whose box comes
-    /// within a skin of it (body and wall may each move half a skin before the list is made
-    /// again: see [`NeighbourSearch::moved_too_far`]). None for a ghost (see
-    /// [`NeighbourSearch::keep_near_pairs`]; its owner books the walls' loads).
+    /// Planes as far from a body's bounding sphere as it may move before the list is made again
+    /// (planes do not move: its margin under [`Margins::ByBody`], a skin under the two largest
+    /// moves), and mesh walls with a triangle whose box comes
+    /// within its margin and half a skin of it (the body may move its margin and the wall half a
+    /// skin before the list is made again: see [`NeighbourSearch::moved_too_far`]). None for a
+    /// ghost (see [`NeighbourSearch::keep_near_pairs`]; its owner books the walls' loads).
     fn find_wall_candidates(&mut self, bodies: &Bodies, planes: &[Plane], walls: &[MeshWall]) {
-        let skin = self.skin;
+        let (half_skin, margin) = (0.5 * self.skin, &self.margin);
+        let travel = match self.margins {
+            Margins::ByBody => 1.0,
+            Margins::Uniform => 2.0,
+        };
         self.wall_candidates.clear();
         if planes.is_empty() && walls.is_empty() {
             return;
@@ -246,17 +301,18 @@ impl NeighbourSearch {
                 .filter(|&i| !bodies.is_ghost(i as usize))
                 .flat_map_iter(|i| {
                     let x = bodies.position[i as usize];
-                    let r = bodies.bounding_radius[i as usize];
+                    let (r, margin) = (bodies.bounding_radius[i as usize], margin[i as usize]);
                     let near_planes = planes
                         .iter()
                         .enumerate()
-                        .filter(move |(_, p)| (x - p.point).dot(p.normal) < r + skin)
+                        .filter(move |(_, p)| (x - p.point).dot(p.normal) < r + travel * margin)
                         .map(move |(p, _)| (i, Partner::Plane(p as u32)));
                     let near_walls = walls
                         .iter()
                         .enumerate()
                         .filter(move |(_, w)| {
-                            let reach = Aabb::around_sphere(w.pose().to_reference(x), r + skin);
+                            let reach = r + margin + half_skin;
+                            let reach = Aabb::around_sphere(w.pose().to_reference(x), reach);
                             w.bounds().overlaps(&reach) && w.has_triangles_near(&reach)
                         })
                         .map(move |(w, _)| (i, Partner::Mesh(w as u32)));
@@ -265,9 +321,10 @@ impl NeighbourSearch {
         );
     }
 
-    /// Keeps the body pairs that can touch before the next search, each seen from body `a`.
+    /// Keeps the body pairs that can touch before the next search, each seen from body `a`: those
+    /// whose bounding spheres come within their two margins of each other.
     ///
-    /// Boxes overlap more often than the bounding spheres come within a skin of each other (by
+    /// Boxes overlap more often than the bounding spheres come within that of each other (by
     /// about 6/π). In parallel by blocks of pairs (a distance each, the bodies read at random):
     /// each block closes up its kept pairs at its front with no branch on the coin toss of
     /// keeping one (a mispredicted branch a pair cost more than the rest), each oriented by
@@ -280,8 +337,7 @@ impl NeighbourSearch {
     fn keep_near_pairs(&mut self, bodies: &Bodies) {
         const BLOCK: usize = 4096;
         let (x, r, ids) = (&bodies.position, &bodies.bounding_radius, &bodies.id);
-        let ghost = &bodies.ghost;
-        let skin = self.skin;
+        let (ghost, margin) = (&bodies.ghost, &self.margin);
         self.kept.clear();
         self.kept
             .par_extend(self.pairs.par_chunks_mut(BLOCK).map(|block| {
@@ -289,7 +345,7 @@ impl NeighbourSearch {
                 for k in 0..block.len() {
                     let (i, j) = block[k];
                     let (iu, ju) = (i as usize, j as usize);
-                    let reach = r[iu] + r[ju] + skin;
+                    let reach = r[iu] + r[ju] + margin[iu] + margin[ju];
                     let near = (x[iu] - x[ju]).length_squared() <= reach * reach;
                     let ghosts = !ghost.is_empty() && ghost[iu] && ghost[ju];
                     block[kept] = if ids[iu] < ids[ju] { (i, j) } else { (j, i) };
@@ -470,32 +526,43 @@ mod tests {
         found
     }
 
-    /// A list made when the bodies' two largest moves add up to a skin holds every contact
-    /// (against brute force, at each of 400 steps of a body running through creeping ones,
-    /// overlapping them as it goes): the same contacts as the old rule (a list made again once
-    /// any body moved half a skin), with the list made less often.
-    #[test]
-    fn the_list_holds_every_contact_until_the_two_largest_moves_add_up_to_a_skin() {
+    /// 400 steps of body 0 running through 300 creeping ones, overlapping them as it goes, and of
+    /// body 1 bouncing straight up and down between the floor and the top of the box, under
+    /// the neighbour search `search`; each body's velocity is its last move (a step is the unit
+    /// of time). Asserts that the list holds every contact at every step (against brute force),
+    /// and returns how many times it was made, and how many times the rule of old would have
+    /// made it (again once any body had moved half a skin).
+    fn run_through_creeping_bodies(mut search: NeighbourSearch) -> (u32, u32) {
         let mut rng = SplitMix64::new(11);
         let (mut bodies, shapes) = scattered(300, 16.0, &mut rng);
         let planes = [floor()];
-        let skin = 0.2;
-        let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, skin);
+        let skin = search.skin();
         let mut list: Vec<(u32, Partner)> = Vec::new();
         let mut made = 0;
-        // The old rule's count: the list made again once any body had moved half a skin.
         let (mut old_made, mut old_reference) = (0, Vec::new());
         let mut run = DVec3::new(1.0, 0.3, 0.1).normalize() * 0.05;
+        let mut fall = DVec3::new(0.0, 0.0, -0.05);
         for step in 0..400 {
-            // Every body creeps; body 0 runs straight through them, turned back at the box.
-            for i in 1..bodies.len() {
+            // Every body creeps; body 0 runs straight through them, turned back at the box; body
+            // 1 falls, into the floor, and rises.
+            let next = bodies.position[1] + fall;
+            fall = if next.z < 0.9 || next.z > 16.0 {
+                -fall
+            } else {
+                fall
+            };
+            bodies.position[1] += fall;
+            bodies.velocity[1] = fall;
+            for i in 2..bodies.len() {
                 let d = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 2.0 - 1.0;
-                bodies.position[i] += d.normalize_or_zero() * 0.002;
+                bodies.velocity[i] = d.normalize_or_zero() * 0.002;
+                bodies.position[i] += bodies.velocity[i];
             }
             let next = bodies.position[0] + run;
             let outside = next.cmplt(DVec3::new(0.0, 0.0, 1.0)) | next.cmpgt(DVec3::splat(16.0));
             run = DVec3::select(outside, -run, run);
             bodies.position[0] += run;
+            bodies.velocity[0] = run;
             let moved = |x: &[DVec3], x0: &[DVec3]| {
                 x0.is_empty()
                     || x.iter()
@@ -523,12 +590,41 @@ mod tests {
             }
         }
         assert!(
+            !touching(&bodies, &planes).is_empty(),
+            "nothing touched: no test"
+        );
+        (made, old_made)
+    }
+
+    /// Half a skin for every body: a list made when the bodies' two largest moves add up to a
+    /// skin holds every contact, and is made less often than by the old rule.
+    #[test]
+    fn the_list_holds_every_contact_until_the_two_largest_moves_add_up_to_a_skin() {
+        let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
+        search.set_margins(Margins::Uniform);
+        let (made, old_made) = run_through_creeping_bodies(search);
+        assert!(
             made < old_made,
             "made {made} times, {old_made} by the old rule"
         );
+    }
+
+    /// Margins grown with the speed (the runner's up to two skins, the creepers' half a skin):
+    /// the list holds every contact until a body has moved beyond its own margin, and is made
+    /// less often again. Fails if a pair or a plane is looked for within the skin rather than
+    /// the bodies' margins (the runner then meets a creeper, or the floor, unlisted).
+    #[test]
+    fn the_list_holds_every_contact_until_a_body_outruns_its_own_margin() {
+        let uniform = {
+            let mut search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
+            search.set_margins(Margins::Uniform);
+            run_through_creeping_bodies(search).0
+        };
+        let search = NeighbourSearch::new(broad_phase::Method::SweepAndPrune, 0.2);
+        let (made, old_made) = run_through_creeping_bodies(search);
         assert!(
-            !touching(&bodies, &planes).is_empty(),
-            "nothing touched: no test"
+            2 * made < old_made && made < uniform,
+            "made {made} times, {uniform} with uniform margins, {old_made} by the old rule"
         );
     }
 

@@ -84,7 +84,7 @@ impl RegionOutput {
 /// The triangles near each sphere on a mesh wall (`near[first[h]..first[h + 1]]` for the
 /// sphere whose entries start at the store's `spheres_on_mesh()[h]`), made for the store's list
 /// `list` (`ContactStore::list_id`) and the skin `skin`: those within the sphere's radius and
-/// two skins of where it was then.
+/// twice its margin and half a skin of where it was then.
 #[derive(Default)]
 pub struct NearTriangles {
     list: u64,
@@ -107,14 +107,15 @@ impl NearTriangles {
     }
 
     /// Makes the lists again if the store holds another list of candidates than they were made
-    /// for. A list stays while no body has moved more than half the skin since it was made, nor
-    /// any wall (`candidates::NeighbourSearch`): a sphere then stays within a skin of where it
-    /// was, in its wall's placement, and within two skins of where it is now, whenever within
-    /// the list's life this is done (right after the list is made, or after a restart). The
-    /// distance to a triangle changes no faster than the sphere moves, so the triangles within
-    /// the radius and two skins of it hold every triangle it can reach before the next list
+    /// for. A list stays while no body has moved beyond its margin since it was made (`margin`,
+    /// per body; half the skin where empty), nor any wall more than half the skin
+    /// (`candidates::NeighbourSearch`): a sphere then stays within its margin and half a skin of
+    /// where it was, in its wall's placement, and within twice that of where it is now, whenever
+    /// within the list's life this is done (right after the list is made, or after a restart).
+    /// The distance to a triangle changes no faster than the sphere moves, so the triangles
+    /// within the radius and that reach hold every triangle it can reach before the next list
     /// (`narrow_phase::triangles_within`; fewer than those whose boxes come that near).
-    fn update(&mut self, scene: Scene, store: &ContactStore, skin: f64) {
+    fn update(&mut self, scene: Scene, store: &ContactStore, (skin, margin): (f64, &[f64])) {
         if self.list == store.list_id() && store.list_id() != 0 && self.skin == skin {
             return;
         }
@@ -124,9 +125,11 @@ impl NearTriangles {
             .par_iter()
             .with_min_len(64)
             .map(|&first| {
-                let (x, r, wall) = sphere_and_wall(scene, &keys[first as usize]);
+                let key = &keys[first as usize];
+                let (x, r, wall) = sphere_and_wall(scene, key);
+                let margin = margin.get(key.a as usize).copied().unwrap_or(0.5 * skin);
                 let mut near = Vec::new();
-                narrow_phase::triangles_within(x, r + 2.0 * skin, wall, &mut near);
+                narrow_phase::triangles_within(x, r + 2.0 * margin + skin, wall, &mut near);
                 near
             })
             .collect();
@@ -163,15 +166,15 @@ fn sphere_and_wall<'a>(scene: Scene<'a>, key: &ContactKey) -> (DVec3, f64, &'a M
 /// The geometry of every polyhedral pair that may touch in several places, matched to last
 /// step's regions, and the triangles near each sphere on a mesh wall (whose slots the contact
 /// loop sets, [`set_spheres_on_mesh`]). Returns the energy held by the history of region
-/// contacts that ended or gave their slot to a new contact (dissipated). `skin`: the neighbour
-/// search's (see [`NearTriangles::update`]).
+/// contacts that ended or gave their slot to a new contact (dissipated). `reach`: the neighbour
+/// search's skin and each body's margin (see [`NearTriangles::update`]).
 pub fn detect_regions(
     scene: Scene,
     store: &mut ContactStore,
     regions: &mut RegionOutput,
-    skin: f64,
+    reach: (f64, &[f64]),
 ) -> f64 {
-    regions.near.update(scene, store, skin);
+    regions.near.update(scene, store, reach);
     if store.regional().is_empty() {
         return 0.0;
     }

@@ -22,6 +22,7 @@ pub mod candidates;
 pub mod detect;
 pub mod forces;
 pub mod lookahead;
+pub mod margins;
 pub mod mesh_lanes;
 pub mod plane_lanes;
 pub(crate) mod prefetch;

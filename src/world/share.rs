@@ -313,6 +313,14 @@ impl World {
         self.contacts.adopt(i, index, records)
     }
 
+    /// Gives every body half the skin for margin, and makes the list again when the two largest
+    /// moves add up to a skin (`step::margins::Margins::Uniform`): what a share of a decomposed
+    /// world's ghost layer and look-ahead assume ([`ShareOutlook`]).
+    pub fn set_uniform_margins(&mut self) {
+        self.search
+            .set_margins(crate::step::margins::Margins::Uniform);
+    }
+
     /// Makes `drawn_at` the places of this share's bodies when the shares were drawn, and
     /// `slack[i]` how much farther than the shares' common bound body `i` may go from there.
     pub fn set_drawing(&mut self, drawn_at: Vec<DVec3>, slack: Vec<f64>) {

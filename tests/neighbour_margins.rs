@@ -1,0 +1,105 @@
+//! Margins grown with the bodies' speed (`step::margins`) make the candidate list last longer in
+//! a bed where a few bodies move fast, and change no body's motion by a bit: the same scene run
+//! with half a skin for every body (the rule the shares of a decomposed world keep) gives the
+//! same positions, velocities and spins at every step, on a triangulated floor (whose near
+//! triangles each sphere looks among follow its margin) with spheres thrown across it and down
+//! onto it through a bed of resting ones.
+
+mod common;
+
+use polydem::body::BodyInit;
+use polydem::material::Material;
+use polydem::math::{DQuat, DVec3};
+use polydem::shape::{Shape, Sphere};
+use polydem::World;
+
+use common::Floor;
+
+const RADIUS: f64 = 0.002;
+
+/// 400 spheres of 2 mm resting on a floor of 20,000 triangles (2 mm squares cut in two), 10 mm
+/// apart, and four thrown: one sliding across the floor at 1 m/s along a lane between two rows,
+/// one into the first of a row, two falling onto the bed from 30 mm and 60 mm at 1.5 m/s.
+fn bed(uniform_margins: bool) -> World {
+    let material = Material {
+        name: "m".into(),
+        density: 2500.0,
+        youngs_modulus: 1e7,
+        poisson_ratio: 0.25,
+        restitution: 0.5,
+        friction: 0.4,
+        rolling_friction: 0.0,
+    };
+    let mut w = common::world_on_floor(material, Floor::Mesh(100), 1e-5);
+    if uniform_margins {
+        w.set_uniform_margins();
+    }
+    let mut add = |position: DVec3, velocity: DVec3| {
+        w.add_body(BodyInit {
+            shape: Shape::Sphere(Sphere::new(RADIUS)),
+            material: 0,
+            position,
+            orientation: DQuat::IDENTITY,
+            velocity,
+            angular_velocity: DVec3::ZERO,
+        });
+    };
+    for i in 0..20 {
+        for j in 0..20 {
+            let x = DVec3::new(-0.095 + 0.01 * i as f64, -0.095 + 0.01 * j as f64, RADIUS);
+            add(x, DVec3::ZERO);
+        }
+    }
+    add(DVec3::new(-0.098, -0.09, RADIUS), DVec3::new(1.0, 0.0, 0.0));
+    add(
+        DVec3::new(0.005, -0.1015, RADIUS),
+        DVec3::new(0.0, 1.0, 0.0),
+    );
+    add(DVec3::new(-0.044, 0.02, 0.03), DVec3::new(0.0, 0.0, -1.5));
+    add(DVec3::new(0.012, 0.048, 0.06), DVec3::new(0.2, 0.0, -1.5));
+    w
+}
+
+fn bits(w: &World) -> Vec<u64> {
+    let b = w.bodies();
+    b.position
+        .iter()
+        .chain(&b.velocity)
+        .chain(&b.angular_velocity)
+        .flat_map(|v| v.to_array())
+        .map(f64::to_bits)
+        .collect()
+}
+
+#[test]
+fn margins_grown_with_speed_change_no_bit_and_make_the_list_less_often() {
+    let mut by_speed = bed(false);
+    let mut uniform = bed(true);
+    for span in 0..40 {
+        by_speed.run_steps(100);
+        uniform.run_steps(100);
+        assert!(
+            bits(&by_speed) == bits(&uniform),
+            "the bodies differ after {} steps",
+            100 * (span + 1)
+        );
+    }
+    let b = by_speed.bodies();
+    // The throws met the bed: bodies of it were struck, and the falling spheres reached the
+    // floor.
+    let struck = b.velocity[..400]
+        .iter()
+        .filter(|v| v.length() > 0.05)
+        .count();
+    let contacts = by_speed.contacts();
+    let on_floor = contacts.with_mesh_walls().count();
+    assert!(
+        struck >= 2 && on_floor >= 390,
+        "{struck} struck, {on_floor} on the floor: no test"
+    );
+    let (made, made_uniform) = (by_speed.pair_rebuilds(), uniform.pair_rebuilds());
+    assert!(
+        2 * made < made_uniform,
+        "list made {made} times, {made_uniform} with half a skin for every body"
+    );
+}
