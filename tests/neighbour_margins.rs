@@ -8,7 +8,6 @@
 mod common;
 
 use polydem::body::BodyInit;
-use polydem::material::Material;
 use polydem::math::{DQuat, DVec3};
 use polydem::shape::{Shape, Sphere};
 use polydem::World;
@@ -21,16 +20,7 @@ const RADIUS: f64 = 0.002;
 /// apart, and four thrown: one sliding across the floor at 1 m/s along a lane between two rows,
 /// one into the first of a row, two falling onto the bed from 30 mm and 60 mm at 1.5 m/s.
 fn bed(uniform_margins: bool) -> World {
-    let material = Material {
-        name: "m".into(),
-        density: 2500.0,
-        youngs_modulus: 1e7,
-        poisson_ratio: 0.25,
-        restitution: 0.5,
-        friction: 0.4,
-        rolling_friction: 0.0,
-    };
-    let mut w = common::world_on_floor(material, Floor::Mesh(100), 1e-5);
+    let mut w = common::world_on_floor(common::grain(0.0), Floor::Mesh(100), 1e-5);
     if uniform_margins {
         w.set_uniform_margins();
     }
