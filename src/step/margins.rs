@@ -17,8 +17,8 @@
 //! their two margins apart (gap between their bounding spheres) when the list was made, and can
 //! touch only once their moves since add up to that, which [`Margins::ByBody`]'s rule (no body
 //! beyond its own margin) excludes; a body within its margin cannot reach a plane farther than
-//! twice its margin, nor a triangle of a wall (which moves half a skin at most) farther than its
-//! margin and half a skin. A pair that touches is a candidate under either rule, so the forces,
+//! its margin, nor a triangle of a wall (which moves half a skin at most) farther than its margin
+//! and half a skin. A pair that touches is a candidate under either rule, so the forces,
 //! and every body's motion, are the same bits whatever the margins (only the contact store's
 //! chunks, and so the order in which the energy ledger adds up its dissipation, change).
 
