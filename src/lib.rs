@@ -16,6 +16,7 @@ pub mod energy;
 pub mod flow;
 pub mod geometry;
 pub mod groups;
+pub mod huge_pages;
 pub mod integrate;
 pub mod io;
 pub mod material;

@@ -227,6 +227,11 @@ fn give_freed_arrays_back() {
     }
 }
 
+/// Big arrays on 2 MiB pages where Linux gives them (`polydem::huge_pages`): the large worlds'
+/// step waits less on address translation.
+#[global_allocator]
+static ALLOCATOR: polydem::huge_pages::HugePageAlloc = polydem::huge_pages::HugePageAlloc;
+
 fn main() -> ExitCode {
     give_freed_arrays_back();
     let cli = Cli::parse();
