@@ -4,7 +4,7 @@
 //! contacts whose partner a body is — needs its own entry in the processor's address cache
 //! (TLB): a 65,000-sphere bed's step reads ~56 MB, 14,000 small pages, several times what the
 //! TLB holds, and in a virtual machine each miss walks two page tables. Backed by 2 MiB pages,
-//! the same arrays need a few dozen entries; the settled window of that bed ran 9–10 % faster
+//! the same arrays need a few dozen entries; the settled window of that bed ran 6–7.5 % faster
 //! (docs/benchmarks.md, "Big arrays on 2 MiB pages"). A world that fits in the cache (10,000
 //! spheres) has no array this large and is unchanged.
 //!
@@ -101,8 +101,9 @@ unsafe impl GlobalAlloc for HugePageAlloc {
                 return ptr;
             }
         }
-        // SAFETY: as in `alloc`. A big block is mapped fresh and not touched by the zeroing
-        // (the kernel's pages are zero), so it can be marked after.
+        // SAFETY: as in `alloc`. glibc leaves a block it maps afresh untouched (the kernel's
+        // pages are zero), so marked after, its pages are still to be backed; one it zeroed
+        // itself (taken from its heap) stays on small pages.
         let ptr = unsafe { System.alloc_zeroed(layout) };
         mark(ptr, layout.size(), false);
         ptr
@@ -116,8 +117,8 @@ unsafe impl GlobalAlloc for HugePageAlloc {
 
     #[inline]
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: as in `alloc`. glibc moves a big block by remapping its pages, which keep
-        // their advice; the new range is marked for the part that grew.
+        // SAFETY: as in `alloc`. glibc moves a big block by remapping its small pages as they
+        // are: the new range is marked, and a block that was big already collapsed.
         let new = unsafe { System.realloc(ptr, layout, new_size) };
         mark(new, new_size, layout.size() >= HUGE_PAGE_BYTES);
         new
@@ -170,6 +171,46 @@ mod tests {
                 .all(|k| unsafe { *zeroed.add(k) } == 0));
             unsafe { HugePageAlloc.dealloc(zeroed, zeroed_layout) };
         }
+    }
+
+    /// A big block lies in memory the kernel may back with huge pages (`THPeligible` in
+    /// `/proc/self/smaps`) exactly where transparent huge pages are on: with the setting
+    /// `madvise`, only because the allocator marked it.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    #[test]
+    fn a_big_block_is_eligible_for_huge_pages_where_the_kernel_gives_them() {
+        let setting = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled")
+            .unwrap_or_default();
+        let on = setting.contains("[madvise]") || setting.contains("[always]");
+        let size = 4 * HUGE_MIN_BYTES;
+        let (ptr, layout) = filled(size, 8);
+        let (start, bytes) = whole_pages(ptr, size);
+        assert!(bytes >= 2 * HUGE_PAGE_BYTES);
+        let smaps = std::fs::read_to_string("/proc/self/smaps").unwrap();
+        let mut eligible = None;
+        let mut inside = false;
+        for line in smaps.lines() {
+            let range = line
+                .split_whitespace()
+                .next()
+                .and_then(|r| r.split_once('-'));
+            let bounds = range.and_then(|(lo, hi)| {
+                let lo = usize::from_str_radix(lo, 16).ok()?;
+                Some((lo, usize::from_str_radix(hi, 16).ok()?))
+            });
+            if let Some((lo, hi)) = bounds {
+                inside = lo <= start && start < hi;
+            } else if let Some(flag) = line.strip_prefix("THPeligible:").filter(|_| inside) {
+                eligible = Some(flag.trim() == "1");
+            }
+        }
+        unsafe { HugePageAlloc.dealloc(ptr, layout) };
+        assert_eq!(
+            eligible,
+            Some(on),
+            "transparent huge pages: {}",
+            setting.trim()
+        );
     }
 
     /// The pages marked are the whole 2 MiB pages inside the block, none outside it.
