@@ -35,7 +35,7 @@ pub struct HugePageAlloc;
 /// The whole huge pages of the block at `ptr` of `size` bytes: where they start, and how many
 /// bytes they cover (0 if none).
 #[inline]
-pub fn whole_pages(ptr: *const u8, size: usize) -> (usize, usize) {
+fn whole_pages(ptr: *const u8, size: usize) -> (usize, usize) {
     let start = (ptr as usize).next_multiple_of(HUGE_PAGE_BYTES);
     let end = (ptr as usize).saturating_add(size) / HUGE_PAGE_BYTES * HUGE_PAGE_BYTES;
     (start, end.saturating_sub(start))
