@@ -93,3 +93,60 @@ fn margins_grown_with_speed_change_no_bit_and_make_the_list_less_often() {
         "list made {made} times, {made_uniform} with half a skin for every body"
     );
 }
+
+/// 512 still spheres of 2 mm on a lattice whose neighbours' gaps are three quarters of the skin,
+/// and one thrown across a row of them: a uniform half skin makes every lattice neighbour a
+/// candidate, margins by speed (the still bulk at the shrink limit, half of half the skin) none
+/// of them, and both move the bodies by the same bits.
+#[test]
+fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits() {
+    let lattice = |uniform_margins: bool| {
+        let mut w = common::wall_free_world(common::grain(0.0), DVec3::ZERO, 1e-5);
+        if uniform_margins {
+            w.set_uniform_margins();
+        }
+        // The default skin, a fifth of the smallest radius (the world has no bodies yet).
+        let skin = RADIUS / 5.0;
+        let spacing = 2.0 * RADIUS + 0.75 * skin;
+        let mut add = |position: DVec3, velocity: DVec3| {
+            w.add_body(BodyInit {
+                shape: Shape::Sphere(Sphere::new(RADIUS)),
+                material: 0,
+                position,
+                orientation: DQuat::IDENTITY,
+                velocity,
+                angular_velocity: DVec3::ZERO,
+            });
+        };
+        for k in 0..512 {
+            let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
+            add(cell * spacing, DVec3::ZERO);
+        }
+        // Along the row at y = z = 0, in the gap between it and the next layer up.
+        let start = DVec3::new(-3.0 * RADIUS, 0.0, 0.5 * spacing);
+        add(start, DVec3::new(2.0, 0.0, 0.0));
+        assert_eq!(w.skin(), skin);
+        w
+    };
+    let (mut by_speed, mut uniform) = (lattice(false), lattice(true));
+    by_speed.run_steps(1);
+    uniform.run_steps(1);
+    let (fewer, more) = (by_speed.contacts().entries(), uniform.contacts().entries());
+    // 3 × 8 × 8 × 7 neighbours along the axes, 1,344.
+    assert!(more >= 1344, "{more} candidates with a uniform half skin");
+    assert!(fewer < 100, "{fewer} candidates with margins by speed");
+    for span in 0..20 {
+        by_speed.run_steps(50);
+        uniform.run_steps(50);
+        assert!(
+            bits(&by_speed) == bits(&uniform),
+            "the bodies differ after {} steps",
+            50 * (span + 1) + 1
+        );
+    }
+    let struck = by_speed.bodies().velocity[..512]
+        .iter()
+        .filter(|v| v.length() > 0.01)
+        .count();
+    assert!(struck >= 2, "{struck} struck: no test");
+}

@@ -6,12 +6,21 @@
 //! of bodies: on the 10,000-sphere bench bed, steps 5,000–7,000, the list was made every 34 steps,
 //! when the fastest body had moved half a skin while half of all bodies had moved less than 0.4 %
 //! of it and only one in a hundred more than a tenth (a probe at each list; docs/benchmarks.md).
-//! So each body gets a margin in proportion to its speed when the list is made, from half the skin
-//! for the bulk up to [`GROWTH_LIMIT`] times that for the fastest: the few fast bodies carry
-//! larger boxes (few more candidates), and the list lasts until some body has outrun its own
+//! So each body gets a margin in proportion to its speed when the list is made: half the skin at
+//! the reference speed, up to [`GROWTH_LIMIT`] times that for the fastest, and down to
+//! [`SHRINK_LIMIT`] times it for the slow bulk. The few fast bodies carry larger boxes (few more
+//! candidates), the creeping bulk smaller ones (a tenth fewer candidates in a settled bed, whose
+//! sort and store every step pays for), and the list lasts until some body has outrun its own
 //! margin. The reference speed is that of the body faster than [`REFERENCE_QUANTILE`] of the
 //! others, so the rule needs no time step and no scale, and a flow where every body moves alike
 //! keeps the uniform margin (and the list's life) it had.
+//!
+//! Why not smaller still: a creeping body is jostled, and once a step's kick carries it past a
+//! small margin the list is made again (a list costs two to four steps of a settled bed). On the
+//! 10,000-sphere bench bed, steps 5,000–7,000, the list was made 22 times with the bulk at half
+//! the skin, 26 at a half of that and 39 at a quarter, for 36,099, 31,830 and 28,939 candidates;
+//! a half and a quarter were as fast, a tenth (68 lists) slower (docs/benchmarks.md, "Margins
+//! that shrink for the slow bulk").
 //!
 //! Correctness does not rest on the guess: two bodies that are not candidates were more than
 //! their two margins apart (gap between their bounding spheres) when the list was made, and can
@@ -41,13 +50,18 @@ pub enum Margins {
 /// carry boxes with several times the partners.
 pub const GROWTH_LIMIT: f64 = 4.0;
 
+/// The least a margin shrinks: half of half the skin, for a body far slower than the reference
+/// (or still).
+pub const SHRINK_LIMIT: f64 = 0.5;
+
 /// The share of bodies at least as slow as the reference speed (see the module's text).
 pub const REFERENCE_QUANTILE: f64 = 0.99;
 
 /// Each body's margin for the velocities `velocity` (`out`, cleared first): half the skin
-/// `half_skin`, times the body's speed over the reference speed where it is faster, at most
-/// [`GROWTH_LIMIT`] times (a body that is not still among still ones: the limit). A function of
-/// the velocities alone, so the same for any thread count.
+/// `half_skin`, times the body's speed over the reference speed, at least [`SHRINK_LIMIT`] and
+/// at most [`GROWTH_LIMIT`] times (a body that is not still among still ones: the growth limit;
+/// a still one: the shrink limit). A function of the velocities alone, so the same for any
+/// thread count.
 pub fn by_speed(velocity: &[DVec3], half_skin: f64, out: &mut Vec<f64>) {
     out.clear();
     // Squared speeds: the quantile of the squares is the square of the speeds' quantile, and only
@@ -66,14 +80,17 @@ pub fn by_speed(velocity: &[DVec3], half_skin: f64, out: &mut Vec<f64>) {
 }
 
 /// The factor on half the skin of a body whose squared speed is `squared`, the reference's
-/// `reference_squared`: 1 up to the reference speed (and for a speed that is not a number, which
-/// the run's checks stop it for), then the ratio of the speeds, at most [`GROWTH_LIMIT`].
+/// `reference_squared`: the ratio of the speeds, at least [`SHRINK_LIMIT`] and at most
+/// [`GROWTH_LIMIT`]; 1 for a speed that is not a number (which the run's checks stop it for).
 fn growth(squared: f64, reference_squared: f64) -> f64 {
     if squared > reference_squared {
-        // Above a still reference (0): the quotient is infinite, and the limit is taken.
+        // Above a still reference (0): the quotient is infinite, and the growth limit is taken.
         (squared / reference_squared).sqrt().min(GROWTH_LIMIT)
+    } else if squared <= reference_squared {
+        // A still body under a still reference: 0/0, not a number, which `max` passes over.
+        (squared / reference_squared).sqrt().max(SHRINK_LIMIT)
     } else {
-        // Also NaN, which compares false.
+        // A speed that is not a number compares false both ways.
         1.0
     }
 }
@@ -90,36 +107,48 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_bulk_keeps_half_the_skin_and_the_fastest_grow_up_to_the_limit() {
+    fn margins_follow_the_speed_from_the_shrink_limit_to_the_growth_limit() {
         // 1,000 bodies: 985 creep at 1 mm/s or less, 10 at 2 mm/s, five fly at 3, 6, 10, 50 and
         // 500 mm/s. The reference is the 990th slowest's speed, 2 mm/s.
-        let mut velocity: Vec<DVec3> = (0..985)
-            .map(|k| DVec3::new(0.0, 1e-3 * k as f64 / 985.0, 0.0))
-            .collect();
+        let creep = |k: usize| 1e-3 * k as f64 / 985.0;
+        let mut velocity: Vec<DVec3> = (0..985).map(|k| DVec3::new(0.0, creep(k), 0.0)).collect();
         velocity.extend((0..10).map(|_| DVec3::new(0.0, 0.0, -2e-3)));
         velocity.extend([3e-3, 6e-3, 10e-3, 50e-3, 500e-3].map(|s| DVec3::new(s, 0.0, 0.0)));
         let mut margin = Vec::new();
         by_speed(&velocity, 0.1, &mut margin);
         assert_eq!(margin.len(), 1000);
-        assert!(margin[..995].iter().all(|&m| m == 0.1), "the bulk's margin");
+        // At half the reference speed or less: the shrink limit.
+        assert!(
+            margin[..985].iter().all(|&m| m == 0.1 * SHRINK_LIMIT),
+            "the creeping bulk's margin"
+        );
+        assert!(
+            margin[985..995].iter().all(|&m| m == 0.1),
+            "at the reference"
+        );
         let fast = &margin[995..];
         let expected = [0.15, 0.3, 0.4, 0.4, 0.4];
         for (m, e) in fast.iter().zip(expected) {
             assert!((m - e).abs() < 1e-12, "{fast:?}");
         }
+        // Between the shrink limit and the reference speed, in proportion to the speed.
+        velocity[0] = DVec3::new(1.5e-3, 0.0, 0.0);
+        by_speed(&velocity, 0.1, &mut margin);
+        assert!((margin[0] - 0.075).abs() < 1e-12, "{}", margin[0]);
     }
 
     #[test]
-    fn still_bodies_keep_half_the_skin_and_a_lone_mover_among_them_the_limit() {
+    fn still_bodies_take_the_shrink_limit_and_a_lone_mover_among_them_the_growth_limit() {
         let mut margin = Vec::new();
         let mut velocity = vec![DVec3::ZERO; 200];
+        let least = 0.1 * SHRINK_LIMIT;
         by_speed(&velocity, 0.1, &mut margin);
-        assert!(margin.iter().all(|&m| m == 0.1));
+        assert!(margin.iter().all(|&m| m == least));
         velocity[7] = DVec3::new(0.0, 1e-9, 0.0);
         by_speed(&velocity, 0.1, &mut margin);
         assert_eq!(margin[7], 0.1 * GROWTH_LIMIT);
-        assert_eq!(margin.iter().filter(|&&m| m == 0.1).count(), 199);
-        // A speed that is not a number grows nothing.
+        assert_eq!(margin.iter().filter(|&&m| m == least).count(), 199);
+        // A speed that is not a number keeps half the skin.
         velocity[3] = DVec3::new(f64::NAN, 0.0, 0.0);
         by_speed(&velocity, 0.1, &mut margin);
         assert_eq!(margin[3], 0.1);
