@@ -2,7 +2,8 @@
 //! bodies, planes, mesh walls) that are close enough to touch before the list is made again.
 //!
 //! The list is made with a skin: each body's box enlarged by its margin on each side, half the skin
-//! or, for a body faster than the bulk, more ([`margins`](super::margins)). It stays valid until
+//! or, following the body's speed, down to half that for the creeping bulk and up to four times
+//! for the fastest ([`margins`](super::margins)). It stays valid until
 //! some body has moved beyond its margin, or a moving mesh wall more than half the skin (Verlet
 //! 1967's neighbour list idea): until then no two bodies outside each other's enlarged boxes can
 //! touch, nor a body and a wall farther apart than the list looked. Body pairs come from the broad
