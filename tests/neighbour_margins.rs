@@ -16,6 +16,18 @@ use common::Floor;
 
 const RADIUS: f64 = 0.002;
 
+/// Adds a sphere of radius [`RADIUS`] at `position`, moving at `velocity`, not spinning.
+fn add_sphere(w: &mut World, position: DVec3, velocity: DVec3) {
+    w.add_body(BodyInit {
+        shape: Shape::Sphere(Sphere::new(RADIUS)),
+        material: 0,
+        position,
+        orientation: DQuat::IDENTITY,
+        velocity,
+        angular_velocity: DVec3::ZERO,
+    });
+}
+
 /// 400 spheres of 2 mm resting on a floor of 20,000 triangles (2 mm squares cut in two), 10 mm
 /// apart, and four thrown: one sliding across the floor at 1 m/s along a lane between two rows,
 /// one into the first of a row, two falling onto the bed from 30 mm and 60 mm at 1.5 m/s.
@@ -24,16 +36,7 @@ fn bed(uniform_margins: bool) -> World {
     if uniform_margins {
         w.set_uniform_margins();
     }
-    let mut add = |position: DVec3, velocity: DVec3| {
-        w.add_body(BodyInit {
-            shape: Shape::Sphere(Sphere::new(RADIUS)),
-            material: 0,
-            position,
-            orientation: DQuat::IDENTITY,
-            velocity,
-            angular_velocity: DVec3::ZERO,
-        });
-    };
+    let mut add = |position: DVec3, velocity: DVec3| add_sphere(&mut w, position, velocity);
     for i in 0..20 {
         for j in 0..20 {
             let x = DVec3::new(-0.095 + 0.01 * i as f64, -0.095 + 0.01 * j as f64, RADIUS);
@@ -108,16 +111,7 @@ fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits(
         // The default skin, a fifth of the smallest radius (the world has no bodies yet).
         let skin = RADIUS / 5.0;
         let spacing = 2.0 * RADIUS + 0.75 * skin;
-        let mut add = |position: DVec3, velocity: DVec3| {
-            w.add_body(BodyInit {
-                shape: Shape::Sphere(Sphere::new(RADIUS)),
-                material: 0,
-                position,
-                orientation: DQuat::IDENTITY,
-                velocity,
-                angular_velocity: DVec3::ZERO,
-            });
-        };
+        let mut add = |position: DVec3, velocity: DVec3| add_sphere(&mut w, position, velocity);
         for k in 0..512 {
             let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
             add(cell * spacing, DVec3::ZERO);

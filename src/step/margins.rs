@@ -40,8 +40,8 @@ pub enum Margins {
     /// to a skin (or, with mesh walls, one body moved half a skin). Kept by the shares of a
     /// decomposed world, whose ghost layers and look-ahead at the bodies' next move assume it.
     Uniform,
-    /// Half the skin, grown with the body's speed ([`by_speed`]); the list is made again once a
-    /// body has moved beyond its own margin. A single world's.
+    /// Half the skin, shrunk or grown with the body's speed ([`by_speed`]); the list is made
+    /// again once a body has moved beyond its own margin. A single world's.
     ByBody,
 }
 
