@@ -87,8 +87,14 @@ mod tests {
     /// Through a batch on two threads, the other worker keeps looking for work in a serial
     /// stretch far longer than a rayon worker looks before it sleeps (a few dozen rounds), runs
     /// the batch's parallel work, and is let go at the batch's end: the call returns.
+    ///
+    /// The stretch is waited out until the worker has looked `LOOKS` more times, for five
+    /// seconds at most, rather than for a fixed time: on a loaded machine (tests and builds side
+    /// by side on two cores) a worker that yields its core at each round may look only a few
+    /// dozen times in 30 ms (21 once, in CI), where a sleeping one never looks again.
     #[test]
     fn the_other_worker_keeps_looking_through_the_batch_and_is_let_go_at_its_end() {
+        const LOOKS: u64 = 200;
         let rounds = AtomicU64::new(0);
         let (during, sum, ran) = pool(2).install(|| {
             let stepping = rayon::current_thread_index();
@@ -96,7 +102,12 @@ mod tests {
                 || {
                     std::thread::sleep(std::time::Duration::from_millis(5));
                     let before = rounds.load(Ordering::Relaxed);
-                    std::thread::sleep(std::time::Duration::from_millis(30));
+                    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+                    while rounds.load(Ordering::Relaxed) - before < LOOKS
+                        && std::time::Instant::now() < deadline
+                    {
+                        std::thread::sleep(std::time::Duration::from_millis(1));
+                    }
                     let during = rounds.load(Ordering::Relaxed) - before;
                     // Work that only the other worker takes.
                     let ran = rayon::broadcast(|worker| Some(worker.index()) != stepping);
@@ -106,7 +117,7 @@ mod tests {
                 Some(&rounds),
             )
         });
-        assert!(during > 100, "{during} rounds in 30 ms");
+        assert!(during >= LOOKS, "{during} rounds in five seconds");
         assert_eq!((sum, ran), (499_500, 1));
     }
 
