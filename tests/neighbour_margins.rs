@@ -64,19 +64,25 @@ fn bits(w: &World) -> Vec<u64> {
         .collect()
 }
 
+/// Steps both worlds `spans` times `steps` steps, and asserts after each span that their bodies
+/// are the same to the bit.
+fn step_alike(a: &mut World, b: &mut World, spans: u64, steps: u64) {
+    for _ in 0..spans {
+        a.run_steps(steps);
+        b.run_steps(steps);
+        assert!(
+            bits(a) == bits(b),
+            "the bodies differ after {} steps",
+            a.steps_done()
+        );
+    }
+}
+
 #[test]
 fn margins_grown_with_speed_change_no_bit_and_make_the_list_less_often() {
     let mut by_speed = bed(false);
     let mut uniform = bed(true);
-    for span in 0..40 {
-        by_speed.run_steps(100);
-        uniform.run_steps(100);
-        assert!(
-            bits(&by_speed) == bits(&uniform),
-            "the bodies differ after {} steps",
-            100 * (span + 1)
-        );
-    }
+    step_alike(&mut by_speed, &mut uniform, 40, 100);
     let b = by_speed.bodies();
     // The throws met the bed: bodies of it were struck, and the falling spheres reached the
     // floor.
@@ -129,15 +135,7 @@ fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits(
     // 3 × 8 × 8 × 7 neighbours along the axes, 1,344.
     assert!(more >= 1344, "{more} candidates with a uniform half skin");
     assert!(fewer < 100, "{fewer} candidates with margins by speed");
-    for span in 0..20 {
-        by_speed.run_steps(50);
-        uniform.run_steps(50);
-        assert!(
-            bits(&by_speed) == bits(&uniform),
-            "the bodies differ after {} steps",
-            50 * (span + 1) + 1
-        );
-    }
+    step_alike(&mut by_speed, &mut uniform, 20, 50);
     let struck = by_speed.bodies().velocity[..512]
         .iter()
         .filter(|v| v.length() > 0.01)
