@@ -142,3 +142,24 @@ fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits(
         .count();
     assert!(struck >= 2, "{struck} struck: no test");
 }
+
+/// Regression: a lattice of spheres laid out with an infinite spacing (a test's slip: the skin of
+/// a world with no bodies yet, which is infinite), so at NaN (0 × ∞) and infinite coordinates,
+/// and one sphere thrown at a finite x and an infinite z, made the neighbour search's cell grid
+/// index a grid of no cells at the first step: its span was NaN along one axis and infinite
+/// along another, and the count of cells along the second overflowed. The step now files the
+/// bodies, and the run's check names the first whose state is not finite.
+#[test]
+fn bodies_at_infinity_are_searched_without_a_panic() {
+    let mut w = common::wall_free_world(common::grain(0.0), DVec3::ZERO, 1e-5);
+    let spacing = f64::INFINITY;
+    for k in 0..512 {
+        let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
+        add_sphere(&mut w, cell * spacing, DVec3::ZERO);
+    }
+    let thrown = DVec3::new(-3.0 * RADIUS, 0.0, 0.5 * spacing);
+    add_sphere(&mut w, thrown, DVec3::new(2.0, 0.0, 0.0));
+    w.run_steps(1);
+    let why = polydem::run::blow_up(&w).expect("bodies at infinity are not a sound state");
+    assert!(why.contains("body 0 has position (NaN"), "{why}");
+}

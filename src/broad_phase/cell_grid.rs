@@ -29,13 +29,15 @@ impl BroadPhase for CellGrid {
         let span = bounds.extent();
         // Cells no smaller than the largest box, and no more cells than a few per body so memory
         // stays O(n) however dilute the scene.
-        let max_cells = (4 * boxes.len()).max(64) as f64;
+        let max_cells = (4 * boxes.len()).max(64);
         let mut cell = largest.max(f64::MIN_POSITIVE);
-        while (span / cell + DVec3::ONE).floor().element_product() > max_cells {
+        let dims = |cell: f64| (span / cell).to_array().map(|s| cells_along(s, max_cells));
+        while cell.is_finite()
+            && dims(cell).iter().map(|&n| n as f64).product::<f64>() > max_cells as f64
+        {
             cell *= 1.5;
         }
-        let dims = (span / cell).floor().as_uvec3() + glam::UVec3::ONE;
-        let (nx, ny, nz) = (dims.x as usize, dims.y as usize, dims.z as usize);
+        let [nx, ny, nz] = dims(cell);
         let index = |p: DVec3| -> (usize, usize, usize) {
             let c = ((p - bounds.min) / cell).floor();
             (
@@ -86,5 +88,48 @@ impl BroadPhase for CellGrid {
 
     fn name(&self) -> &'static str {
         "cell_grid"
+    }
+}
+
+/// The number of cells along an axis, given the span over the cell's width: at least one and at
+/// most `max`. An infinite ratio takes the most and a NaN one (a span of ∞ − ∞: bodies that all
+/// lie at an infinite coordinate) one, so that no count overflows and every box is filed.
+fn cells_along(span_over_cell: f64, max: usize) -> usize {
+    if span_over_cell.is_nan() {
+        return 1;
+    }
+    // `as` saturates: an infinite ratio is `usize::MAX` before the clamp.
+    (span_over_cell.floor().max(0.0) as usize).min(max - 1) + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn boxed(min: [f64; 3], max: [f64; 3]) -> Aabb {
+        Aabb {
+            min: DVec3::from_array(min),
+            max: DVec3::from_array(max),
+        }
+    }
+
+    /// Regression: bodies that all lie at an infinite x, one of them also at an infinite y, gave
+    /// the grid an x span of ∞ − ∞ (NaN) and a y span of ∞: the loop that widens the cells
+    /// stopped at once (a NaN product is never too large), the infinite count of y cells
+    /// saturated to `u32::MAX`, one more wrapped it to zero, and filing the first box indexed a
+    /// grid of no cells.
+    #[test]
+    fn boxes_at_infinity_are_filed_without_a_panic() {
+        let inf = f64::INFINITY;
+        let boxes = [
+            boxed([inf, 0.0, 0.0], [inf, 1.0, 1.0]),
+            boxed([inf, inf, 0.0], [inf, inf, 1.0]),
+            boxed([inf, 0.5, 0.5], [inf, 1.5, 1.5]),
+        ];
+        let mut pairs = Vec::new();
+        CellGrid::default().find_pairs(&boxes, &mut pairs);
+        assert!(pairs
+            .iter()
+            .all(|&(i, j)| i < j && (j as usize) < boxes.len()));
     }
 }
