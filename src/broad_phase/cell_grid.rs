@@ -31,13 +31,13 @@ impl BroadPhase for CellGrid {
         // stays O(n) however dilute the scene.
         let max_cells = (4 * boxes.len()).max(64);
         let mut cell = largest.max(f64::MIN_POSITIVE);
-        let dims = |cell: f64| (span / cell).to_array().map(|s| cells_along(s, max_cells));
-        while cell.is_finite()
-            && dims(cell).iter().map(|&n| n as f64).product::<f64>() > max_cells as f64
-        {
+        // (A span of ∞ − ∞ gives a NaN product, never too many: see `cells_along`.)
+        let too_many =
+            |cell: f64| (span / cell + DVec3::ONE).floor().element_product() > max_cells as f64;
+        while cell.is_finite() && too_many(cell) {
             cell *= 1.5;
         }
-        let [nx, ny, nz] = dims(cell);
+        let [nx, ny, nz] = (span / cell).to_array().map(|s| cells_along(s, max_cells));
         let index = |p: DVec3| -> (usize, usize, usize) {
             let c = ((p - bounds.min) / cell).floor();
             (
@@ -92,8 +92,9 @@ impl BroadPhase for CellGrid {
 }
 
 /// The number of cells along an axis, given the span over the cell's width: at least one and at
-/// most `max`. An infinite ratio takes the most and a NaN one (a span of ∞ − ∞: bodies that all
-/// lie at an infinite coordinate) one, so that no count overflows and every box is filed.
+/// most `max` (for finite boxes the loop above has already made it so). An infinite ratio takes
+/// the most and a NaN one (a span of ∞ − ∞: bodies that all lie at an infinite coordinate, which
+/// stops that loop at once) one, so that no count overflows and every box is filed.
 fn cells_along(span_over_cell: f64, max: usize) -> usize {
     if span_over_cell.is_nan() {
         return 1;
