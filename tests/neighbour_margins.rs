@@ -28,6 +28,14 @@ fn add_sphere(w: &mut World, position: DVec3, velocity: DVec3) {
     });
 }
 
+/// Adds 512 still spheres on an 8 × 8 × 8 lattice of `spacing` from the origin, x fastest.
+fn add_lattice(w: &mut World, spacing: f64) {
+    for k in 0..512 {
+        let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
+        add_sphere(w, cell * spacing, DVec3::ZERO);
+    }
+}
+
 /// 400 spheres of 2 mm resting on a floor of 20,000 triangles (2 mm squares cut in two), 10 mm
 /// apart, and four thrown: one sliding across the floor at 1 m/s along a lane between two rows,
 /// one into the first of a row, two falling onto the bed from 30 mm and 60 mm at 1.5 m/s.
@@ -117,14 +125,10 @@ fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits(
         // The default skin, a fifth of the smallest radius (the world has no bodies yet).
         let skin = RADIUS / 5.0;
         let spacing = 2.0 * RADIUS + 0.75 * skin;
-        let mut add = |position: DVec3, velocity: DVec3| add_sphere(&mut w, position, velocity);
-        for k in 0..512 {
-            let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
-            add(cell * spacing, DVec3::ZERO);
-        }
+        add_lattice(&mut w, spacing);
         // Along the row at y = z = 0, in the gap between it and the next layer up.
         let start = DVec3::new(-3.0 * RADIUS, 0.0, 0.5 * spacing);
-        add(start, DVec3::new(2.0, 0.0, 0.0));
+        add_sphere(&mut w, start, DVec3::new(2.0, 0.0, 0.0));
         assert_eq!(w.skin(), skin);
         w
     };
@@ -153,10 +157,7 @@ fn the_still_bulk_takes_smaller_margins_and_fewer_candidates_with_the_same_bits(
 fn bodies_at_infinity_are_searched_without_a_panic() {
     let mut w = common::wall_free_world(common::grain(0.0), DVec3::ZERO, 1e-5);
     let spacing = f64::INFINITY;
-    for k in 0..512 {
-        let cell = DVec3::new((k % 8) as f64, ((k / 8) % 8) as f64, (k / 64) as f64);
-        add_sphere(&mut w, cell * spacing, DVec3::ZERO);
-    }
+    add_lattice(&mut w, spacing);
     let thrown = DVec3::new(-3.0 * RADIUS, 0.0, 0.5 * spacing);
     add_sphere(&mut w, thrown, DVec3::new(2.0, 0.0, 0.0));
     w.run_steps(1);
