@@ -4,7 +4,7 @@ use crate::body::Bodies;
 use crate::contact::{ContactStore, StoreLayout};
 use crate::contact_law::PolyhedralLaw;
 use crate::flow::FlowMeter;
-use crate::integrate::{self, BodyMotion, Kick};
+use crate::integrate::{self, BodyMotion, Closing, Kick};
 use crate::material::{Material, PairTable};
 use crate::math::{Aabb, DVec3};
 use crate::shape::Shape;
@@ -33,10 +33,10 @@ pub use snapshot::{RestoreError, ShapeRecord, WorldState, WorldStateRef};
 
 /// How a step's contact pipeline ends ([`World::update_forces`]).
 enum Ending {
-    /// The step's closing half kick given now if any (none when the forces are found again
-    /// between steps).
+    /// The bodies' force sums completed, and the step's closing half kick given if any (none
+    /// when the forces are found again between steps).
     Now(Option<Kick>),
-    /// The closing half kick left to the next step's opening pass (`integrate::kick_drift`).
+    /// Both left to the next step's opening pass (`integrate::Closing`).
     LeftToNextStep(Kick),
 }
 
@@ -222,7 +222,11 @@ impl World {
         self.follow_gravity();
         let dt = self.time_step;
         let mut clock = Stopwatch::start();
-        let closing = self.closing_kick.take();
+        let sums = step::IncomingSums(&self.contacts);
+        let closing = self
+            .closing_kick
+            .take()
+            .map(|kick| Closing { kick, sums: &sums });
         integrate::kick_drift(
             &mut self.bodies,
             self.gravity,
@@ -306,7 +310,7 @@ impl World {
                     .and(self.drawing.as_ref())
                     .and_then(|d| d.lookahead(&self.search, self.bodies.len(), self.time_step));
                 let found = ahead.is_some();
-                let moves = step::accumulate(&mut self.bodies, kick, ahead);
+                let moves = step::accumulate(&mut self.bodies, &self.contacts, kick, ahead);
                 if let Some(d) = &mut self.drawing {
                     d.next = found.then_some(moves);
                 }

@@ -25,7 +25,6 @@ use crate::shape::Shape;
 use crate::tight::resize_tight;
 use crate::wall::Plane;
 
-pub(crate) mod finish;
 mod found_again;
 mod pass;
 mod relocate;
@@ -142,15 +141,9 @@ pub struct ContactStore {
     incoming_first: Vec<u32>,
     incoming: Vec<u32>,
     /// The first body of each chunk of the contact loop, and the count of bodies (see
-    /// [`Chunks`]); made again from `own` when empty, with the two below.
+    /// [`Chunks`]); made again from `own` when empty.
     #[serde(skip)]
     chunks: Vec<u32>,
-    /// `finishing[finishing_first[r]..finishing_first[r + 1]]`: the bodies whose force sums the
-    /// contact loop completes once the chunks of its range `r` are done (see `finish`).
-    #[serde(skip)]
-    finishing_first: Vec<u32>,
-    #[serde(skip)]
-    finishing: Vec<u32>,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
     /// Working memory of [`ContactStore::set_candidates`], empty between merges: each
@@ -367,6 +360,7 @@ impl ContactStore {
             self.own[i + 1] += self.own[i];
             self.incoming_first[i + 1] += self.incoming_first[i];
         }
+        pass::chunk_bodies(&self.own, &mut self.chunks);
         self.incoming.clear();
         self.incoming
             .resize(self.incoming_first[bodies] as usize, 0);
@@ -384,7 +378,6 @@ impl ContactStore {
                 (ids[keys[e as usize].a as usize], keys[e as usize].region)
             })
         });
-        self.make_chunks();
     }
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed
@@ -438,8 +431,6 @@ impl ContactStore {
         self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
-        self.finishing_first.clear();
-        self.finishing.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
@@ -522,8 +513,6 @@ impl ContactStore {
         self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
-        self.finishing_first.clear();
-        self.finishing.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();

@@ -6,13 +6,13 @@
 
 use crate::body::Bodies;
 use crate::contact::{
-    Chunks, ContactKey, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind, Partner,
-    StorePass,
+    Chunks, ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind,
+    Partner, StorePass,
 };
 use crate::contact_law::{
     self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
 };
-use crate::integrate::{BodyMotion, Kick, KickedBody};
+use crate::integrate::{BodyMotion, ForceSums, Kick, KickedBody};
 use crate::material::PairTable;
 use crate::math::DVec3;
 use crate::narrow_phase::{self, ContactPoint};
@@ -303,14 +303,6 @@ pub struct OwnSums<'a> {
 }
 
 impl OwnSums<'_> {
-    /// The same sums, borrowed for a shorter while.
-    pub(crate) fn reborrow(&mut self) -> OwnSums<'_> {
-        OwnSums {
-            force: self.force,
-            torque: self.torque,
-        }
-    }
-
     /// The bodies before `mid` and from `mid` on.
     pub(crate) fn split_at(self, mid: usize) -> (Self, Self) {
         let (force, force_rest) = self.force.split_at_mut(mid);
@@ -541,8 +533,12 @@ fn striped_sum(values: &[f64], counted: impl Fn(usize) -> bool) -> f64 {
     ((a + b) + (c + d)) + ((e + f) + (g + h))
 }
 
-/// How many entries ahead the sort of a chunk asks for the partner's motion: enough to cover a
-/// miss to memory with a few nanoseconds of work per entry between.
+/// How many entries ahead the contact loop asks for the partner's motion, and the force sums for
+/// the loads of a body's incoming entries: enough to cover a miss to memory with the work between.
+const PREFETCH_AHEAD: usize = 8;
+
+/// How many entries ahead the sort of a chunk asks for the partner's motion: its work per entry
+/// is a few nanoseconds, so it must ask further ahead than the force sums.
 const SORT_PREFETCH_AHEAD: usize = 24;
 
 /// Asks for what the contact loop reads of body partner `partner` ([`prefetch`]): its motion,
@@ -584,14 +580,18 @@ pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Re
     }
 }
 
-/// Gives each body the step's closing half `kick`, if any, with the forces and moments the
-/// contact loop completed, and, given `ahead` (a share of a decomposed world), returns what it
-/// finds of the owned bodies' next move ([`Moves`]; [`Moves::NONE`] without it or without a
-/// kick).
-pub fn accumulate(bodies: &mut Bodies, kick: Option<Kick>, ahead: Option<Lookahead>) -> Moves {
-    let Some(kick) = kick else {
-        return Moves::NONE;
-    };
+/// Completes the bodies' force and moment sums, which hold their own contacts' (as `a`, added by
+/// [`evaluate`]), with those of the contacts whose partner they are, in store order; then gives
+/// each body the step's closing half `kick`, if any, while its sums are at hand, and, given
+/// `ahead` (a share of a decomposed world), returns what it finds of the owned bodies' next move
+/// ([`Moves`]; [`Moves::NONE`] without it or without a kick).
+pub fn accumulate(
+    bodies: &mut Bodies,
+    store: &ContactStore,
+    kick: Option<Kick>,
+    ahead: Option<Lookahead>,
+) -> Moves {
+    let sums = IncomingSums(store);
     let Bodies {
         position,
         orientation,
@@ -607,17 +607,27 @@ pub fn accumulate(bodies: &mut Bodies, kick: Option<Kick>, ahead: Option<Lookahe
     } = bodies;
     let (position, orientation, ghost) = (&*position, &*orientation, &*ghost);
     let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
-    let (force, torque) = (&*force, &*torque);
-    velocity
+    let count = force.len();
+    force
         .par_iter_mut()
+        .zip(torque.par_iter_mut())
+        .zip(velocity.par_iter_mut())
         .zip(angular_momentum.par_iter_mut())
         .zip(angular_velocity.par_iter_mut())
         .enumerate()
         .with_min_len(256)
         .fold(
             || Moves::NONE,
-            |moves, (i, ((v, l), w))| {
-                let (f, t) = (force[i], torque[i]);
+            |moves, (i, ((((force, torque), v), l), w))| {
+                if i + PREFETCH_AHEAD < count {
+                    sums.prefetch(i + PREFETCH_AHEAD);
+                }
+                let (f, t) = sums.complete(i, *force, *torque);
+                *force = f;
+                *torque = t;
+                let Some(kick) = kick else {
+                    return moves;
+                };
                 let body = KickedBody {
                     velocity: v,
                     angular_momentum: l,
@@ -636,6 +646,37 @@ pub fn accumulate(bodies: &mut Bodies, kick: Option<Kick>, ahead: Option<Lookahe
             },
         )
         .reduce(|| Moves::NONE, Moves::merge)
+}
+
+/// The loads of the contacts whose partner a body is, from the store: what completes the sums
+/// of its own contacts that [`evaluate`] left, in the order of the body's incoming index list
+/// (its partners' ids), so the same bits for any thread count and numbering.
+pub struct IncomingSums<'a>(pub &'a ContactStore);
+
+impl ForceSums for IncomingSums<'_> {
+    #[inline(always)]
+    fn complete(&self, body: usize, force: DVec3, torque: DVec3) -> (DVec3, DVec3) {
+        // Entries that do not touch hold a zero load, so every entry is added without a test
+        // (whether a candidate touches is a coin toss, and a mispredicted branch per entry cost
+        // more than the addition): a sum that starts at +0 stays bit for bit the same when ±0
+        // is added.
+        let load = self.0.loads();
+        let (mut f, mut t) = (force, torque);
+        for &e in self.0.incoming(body) {
+            let e = e as usize;
+            f -= load[e].force;
+            t += load[e].torque_b;
+        }
+        (f, t)
+    }
+
+    #[inline(always)]
+    fn prefetch(&self, body: usize) {
+        let load = self.0.loads();
+        for &e in self.0.incoming(body) {
+            prefetch(&load[e as usize]);
+        }
+    }
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'

@@ -6,10 +6,10 @@
 //!    store (polyhedral pairs that may touch in several places first; spheres on mesh walls at
 //!    the start of each chunk of stage 3, then the rest);
 //! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact, and
-//!    each body's sum of its own contacts' loads, completed with the contacts whose partner each
-//!    body is as soon as the chunks writing them are done ([`complete_sums`]);
-//! 4. [`forces::accumulate`] — the closing half kick (in a share of a decomposed world, with the
-//!    [`lookahead`] at the bodies' next move); [`wall_loads`] the reactions on the walls.
+//!    each body's sum of its own contacts' loads;
+//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is,
+//!    and the closing half kick (in a share of a decomposed world, with the [`lookahead`] at the
+//!    bodies' next move); [`wall_loads`] the reactions on the walls.
 //!
 //! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]; a chunk holds the
 //! entries of whole bodies), so that a chunk's entries are still in cache when the laws read what
@@ -35,14 +35,14 @@ pub mod wall_loads;
 
 pub use candidates::{NeighbourSearch, SearchState};
 pub use detect::{detect_regions, RegionOutput, Scene};
-pub use forces::{accumulate, LawInputs};
+pub use forces::{accumulate, IncomingSums, LawInputs};
 pub use lookahead::{Lookahead, Moves};
 pub use timing::{StageTimes, Stopwatch};
 pub use wall_loads::{WallLoads, WallsNow};
 
 pub use forces::OwnSums;
 
-use crate::contact::{finish, Chunks, ContactStore, StorePass};
+use crate::contact::{Chunks, ContactStore, StorePass};
 use crate::math::DVec3;
 use std::ops::Range;
 
@@ -70,80 +70,44 @@ pub fn detect_and_evaluate(
         return 0.0;
     }
     debug_assert_eq!(chunks.bodies.last().copied(), Some(own.force.len() as u32));
-    let range = ChunkRange {
-        chunks: 0..chunks.len(),
-        id: 0,
-    };
-    evaluate_chunks(&laws, pass, own, chunks, range, partial, dt);
+    evaluate_chunks(&laws, pass, own, chunks, 0..chunks.len(), partial, dt);
     partial.iter().sum()
 }
 
-/// A range of the contact loop's chunks and its number in the loop's halving (see
-/// `contact::store::finish`).
-struct ChunkRange {
-    chunks: Range<usize>,
-    id: usize,
-}
-
-/// [`forces::evaluate`] of the chunks of `range` (whose entries are `pass`, whose bodies' sums
-/// are `own`, and whose dissipated energies go to `partial`), halved until one chunk is left, the
-/// halves in parallel; then the sums of the bodies whose last loads the range wrote are
-/// completed ([`complete_sums`]).
+/// [`forces::evaluate`] of the chunks `range` (whose entries are `pass`, whose bodies' sums are
+/// `own`, and whose dissipated energies go to `partial`), halved until one chunk is left, the
+/// halves in parallel.
 fn evaluate_chunks(
     laws: &LawInputs,
-    mut pass: StorePass,
-    mut own: OwnSums,
+    pass: StorePass,
+    own: OwnSums,
     chunks: Chunks,
-    range: ChunkRange,
+    range: Range<usize>,
     partial: &mut [f64],
     dt: f64,
 ) {
-    let first = range.chunks.start;
-    if range.chunks.len() == 1 {
-        let (pass, own) = (pass.reborrow(), own.reborrow());
-        partial[0] = forces::evaluate(*laws, pass, own, (chunks, first), dt);
-    } else {
-        let mid = finish::split_point(&range.chunks);
-        let (left, right) = finish::halves(range.id, &range.chunks, mid);
-        let entries = chunks.first_entry(mid) - chunks.first_entry(first);
-        let bodies = (chunks.bodies[mid] - chunks.bodies[first]) as usize;
-        let (pass, pass_rest) = pass.reborrow().split_at(entries);
-        let (own, own_rest) = own.reborrow().split_at(bodies);
-        let (partial, partial_rest) = partial.split_at_mut(mid - first);
-        let (left, right) = (
-            ChunkRange {
-                chunks: first..mid,
-                id: left,
-            },
-            ChunkRange {
-                chunks: mid..range.chunks.end,
-                id: right,
-            },
-        );
-        rayon::join(
-            || evaluate_chunks(laws, pass, own, chunks, left, partial, dt),
-            || evaluate_chunks(laws, pass_rest, own_rest, chunks, right, partial_rest, dt),
-        );
+    if range.len() == 1 {
+        partial[0] = forces::evaluate(*laws, pass, own, (chunks, range.start), dt);
+        return;
     }
-    complete_sums(&pass, &mut own, chunks, &range);
-}
-
-/// Completes the force and moment sums of the bodies whose last loads the chunks of `range`
-/// wrote (`pass` their entries, `own` their bodies' sums of their own contacts): each adds the
-/// loads of the entries whose partner it is, in the order of its incoming list (its partners'
-/// ids), so the same bits for any thread count and numbering. Here rather than in a pass of its
-/// own over the bodies: the loads were written moments ago and are still in cache.
-fn complete_sums(pass: &StorePass, own: &mut OwnSums, chunks: Chunks, range: &ChunkRange) {
-    let first_entry = chunks.first_entry(range.chunks.start);
-    let first_body = chunks.bodies[range.chunks.start] as usize;
-    for &b in chunks.finishing(range.id) {
-        let b = b as usize;
-        let (mut f, mut t) = (own.force[b - first_body], own.torque[b - first_body]);
-        for &e in chunks.incoming(b) {
-            let load = &pass.load[e as usize - first_entry];
-            f -= load.force;
-            t += load.torque_b;
-        }
-        (own.force[b - first_body], own.torque[b - first_body]) = (f, t);
-    }
+    let mid = range.start + range.len() / 2;
+    let entries = chunks.first_entry(mid) - chunks.first_entry(range.start);
+    let bodies = (chunks.bodies[mid] - chunks.bodies[range.start]) as usize;
+    let (pass, pass_rest) = pass.split_at(entries);
+    let (own, own_rest) = own.split_at(bodies);
+    let (partial, partial_rest) = partial.split_at_mut(mid - range.start);
+    rayon::join(
+        || evaluate_chunks(laws, pass, own, chunks, range.start..mid, partial, dt),
+        || {
+            evaluate_chunks(
+                laws,
+                pass_rest,
+                own_rest,
+                chunks,
+                mid..range.end,
+                partial_rest,
+                dt,
+            )
+        },
+    );
 }

@@ -6,7 +6,8 @@ use std::time::Instant;
 /// Seconds spent in each stage since the world was built.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StageTimes {
-    /// Both half-kicks and the drift (integration of the bodies' motion).
+    /// Both half-kicks and the drift (integration of the bodies' motion); between two steps of a
+    /// batch also the bodies' force sums, which the opening pass completes (`integrate::Closing`).
     pub integrate: f64,
     /// The neighbour search (when the candidate list is made again) and the store's update.
     pub candidates: f64,
