@@ -52,10 +52,22 @@ fn bits(v: DVec3) -> [u64; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
 
+/// Whichever completes the sums: the pass over the bodies, or the contact loop itself (a world
+/// this small would leave it to the pass).
 #[test]
 fn a_bodys_sum_is_its_own_loads_then_its_incoming_ones_across_runs_of_the_loop() {
-    let mut w = world(2);
-    w.run_steps(3);
+    for in_loop in [false, true] {
+        let mut w = world(2);
+        w.set_sums_in_contact_loop(Some(in_loop));
+        w.run_steps(3);
+        assert_eq!(w.contacts().store().completes_sums(), in_loop);
+        check_sums(&w);
+    }
+}
+
+/// Each body's force (to the bit) and moment (to rounding: the store does not keep `a`'s side)
+/// found again from the store's loads, own entries then incoming ones.
+fn check_sums(w: &World) {
     let store = w.contacts().store();
     let (loads, bodies) = (store.loads(), w.bodies());
     // The large sphere's own entries fill more than one run of the contact loop, and touch.
@@ -90,6 +102,50 @@ fn a_bodys_sum_is_its_own_loads_then_its_incoming_ones_across_runs_of_the_loop()
         );
     }
     assert!(bodies.force[0].length() > 0.0 && bodies.torque[0].length() > 0.0);
+}
+
+/// The sums completed in the contact loop, right after the chunks that write a body's loads
+/// (`step::complete_sums`), against the pass over the bodies after the loop: the same bits for
+/// every body, on one and two threads, in the large sphere among small ones (one body whose
+/// entries span several chunks, and partners in all of them) and in a scrambled bed of 2,197
+/// spheres with rolling friction (many chunks, bodies put in space order).
+#[test]
+fn sums_completed_in_the_contact_loop_give_the_bits_of_the_pass_over_the_bodies() {
+    type Maker = fn(usize) -> World;
+    let makers: [(&str, Maker, u64); 2] = [
+        ("large among small", world, 50),
+        (
+            "scrambled bed",
+            |threads| common::scrambled_bed(13, threads),
+            300,
+        ),
+    ];
+    for (name, make, steps) in makers {
+        let run = |threads: usize, in_loop: bool| {
+            let mut w = make(threads);
+            w.set_sums_in_contact_loop(Some(in_loop));
+            w.run_steps(steps);
+            assert_eq!(w.contacts().store().completes_sums(), in_loop, "{name}");
+            w
+        };
+        let reference = run(1, false);
+        let a = reference.bodies();
+        assert!(
+            !reference.contacts().is_empty(),
+            "{name}: no contacts, no test"
+        );
+        for (threads, in_loop) in [(1, true), (2, true), (2, false)] {
+            let w = run(threads, in_loop);
+            let b = w.bodies();
+            for i in 0..a.len() {
+                let what = format!("{name}, {threads} threads, in loop {in_loop}: body {i}");
+                assert_eq!(bits(a.force[i]), bits(b.force[i]), "force, {what}");
+                assert_eq!(bits(a.torque[i]), bits(b.torque[i]), "torque, {what}");
+                assert_eq!(bits(a.position[i]), bits(b.position[i]), "position, {what}");
+                assert_eq!(bits(a.velocity[i]), bits(b.velocity[i]), "velocity, {what}");
+            }
+        }
+    }
 }
 
 #[test]

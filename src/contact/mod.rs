@@ -10,9 +10,9 @@ mod view;
 pub use key::{ContactKey, ContactOrder, PairKind, Partner, ShapeTraits, SPHERE_MESH_REGIONS};
 pub use load::{LawReport, Load, OwnLoad, PartnerLoad};
 pub use regions::{assign_regions, Assigned, MAX_REGIONS};
+pub(crate) use store::{finish, Chunks, EntryIds, EntryState, StorePass};
 pub use store::{
     Candidate, ContactRef, ContactStore, EntryRecord, PartnerId, Placement, StoreLayout,
     UnplacedContact, CHUNK_ENTRIES,
 };
-pub(crate) use store::{Chunks, EntryIds, EntryState, StorePass};
 pub use view::Contacts;

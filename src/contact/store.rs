@@ -25,6 +25,7 @@ use crate::shape::Shape;
 use crate::tight::resize_tight;
 use crate::wall::Plane;
 
+pub(crate) mod finish;
 mod found_again;
 mod pass;
 mod relocate;
@@ -141,9 +142,23 @@ pub struct ContactStore {
     incoming_first: Vec<u32>,
     incoming: Vec<u32>,
     /// The first body of each chunk of the contact loop, and the count of bodies (see
-    /// [`Chunks`]); made again from `own` when empty.
+    /// [`Chunks`]); made again from `own` when empty, with the two below.
     #[serde(skip)]
     chunks: Vec<u32>,
+    /// `finishing[finishing_first[r]..finishing_first[r + 1]]`: the bodies whose force sums the
+    /// contact loop completes once the chunks of its range `r` are done (see `finish`).
+    #[serde(skip)]
+    finishing_first: Vec<u32>,
+    #[serde(skip)]
+    finishing: Vec<u32>,
+    /// Whether the contact loop completes the force sums (`Some`), or it is left to the size of
+    /// the world against the last-level cache (`None`, see [`ContactStore::set_sums_in_loop`]).
+    #[serde(skip)]
+    sums_in_loop: Option<bool>,
+    /// Whether the last contact loop completed the bodies' force sums (see
+    /// [`ContactStore::completes_sums`]).
+    #[serde(skip)]
+    sums_completed: bool,
     /// Entries whose partner is a wall, in store order.
     wall_entries: Vec<u32>,
     /// Working memory of [`ContactStore::set_candidates`], empty between merges: each
@@ -360,7 +375,6 @@ impl ContactStore {
             self.own[i + 1] += self.own[i];
             self.incoming_first[i + 1] += self.incoming_first[i];
         }
-        pass::chunk_bodies(&self.own, &mut self.chunks);
         self.incoming.clear();
         self.incoming
             .resize(self.incoming_first[bodies] as usize, 0);
@@ -378,6 +392,7 @@ impl ContactStore {
                 (ids[keys[e as usize].a as usize], keys[e as usize].region)
             })
         });
+        self.make_chunks();
     }
 
     /// After bodies were removed: renumbers the entries by `new_index` (`u32::MAX` for a removed
@@ -431,6 +446,8 @@ impl ContactStore {
         self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
+        self.finishing_first.clear();
+        self.finishing.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
@@ -513,6 +530,8 @@ impl ContactStore {
         self.spheres_on_mesh.clear();
         self.own.clear();
         self.chunks.clear();
+        self.finishing_first.clear();
+        self.finishing.clear();
         self.incoming_first.clear();
         self.incoming.clear();
         self.wall_entries.clear();
@@ -568,6 +587,28 @@ impl ContactStore {
     /// sphere on a mesh wall, `step::detect`) tells by it when it is stale.
     pub fn list_id(&self) -> u64 {
         self.list_id
+    }
+
+    /// Whether the last contact loop (`step::detect_and_evaluate`) left the bodies' force sums
+    /// complete: in a world whose step outgrows the last-level cache, where the loads of a body's
+    /// incoming entries, read a whole step after they were written, would each be a miss; else
+    /// the sums are completed by the pass over the bodies that follows (`step::IncomingSums`),
+    /// where the loads are cache hits. Either way each sum is added up in the same order, so the
+    /// same bits.
+    pub fn completes_sums(&self) -> bool {
+        self.sums_completed
+    }
+
+    /// Sets where the force sums are completed from the next step on: in the contact loop
+    /// (`Some(true)`), in the pass over the bodies (`Some(false)`), or by the world's size
+    /// against the last-level cache (`None`, the default). The results are the same bits.
+    pub fn set_sums_in_loop(&mut self, choice: Option<bool>) {
+        self.sums_in_loop = choice;
+        self.chunks.clear();
+    }
+
+    pub(crate) fn set_sums_completed(&mut self, completed: bool) {
+        self.sums_completed = completed;
     }
 
     /// Entries of body `i` as `a`.

@@ -1,5 +1,6 @@
 //! The size of the processor's last-level cache: whether a world's step fits in it decides how
-//! the kick-drift writes the packed motion ([`super::motion::streams_motion`]).
+//! the kick-drift writes the packed motion ([`super::motion::streams_motion`]) and where the
+//! bodies' force sums are completed (`contact::ContactStore::completes_sums`).
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -11,6 +12,17 @@ const SYSFS_CACHES: &str = "/sys/devices/system/cpu/cpu0/cache";
 /// chiplet of a current server processor, the cache on which streaming stores were measured to
 /// pay (docs/benchmarks.md).
 const ASSUMED_BYTES: usize = 32 << 20;
+
+/// A step's working set in bytes per body: the bodies' arrays, their packed motion and the
+/// contact store's entries come to about a kilobyte a sphere in a settled bed (peak memory, with
+/// the program and the candidate list, is some 1.6 kB a sphere at 65,000).
+const STEP_BYTES_PER_BODY: usize = 1024;
+
+/// Whether the step of a world of `bodies` bodies does not fit the last-level cache: what a
+/// step wrote has then left the cache by the time the next reads it.
+pub fn outgrown_by(bodies: usize) -> bool {
+    bodies.saturating_mul(STEP_BYTES_PER_BODY) >= bytes()
+}
 
 /// The size in bytes of the largest-level data or unified cache, read once per process.
 pub fn bytes() -> usize {

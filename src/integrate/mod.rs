@@ -16,7 +16,7 @@
 //! order, so the same bits).
 
 mod isotropic;
-mod last_level_cache;
+pub mod last_level_cache;
 pub mod motion;
 pub mod rotation;
 
@@ -45,6 +45,8 @@ pub trait ForceSums: Sync {
     fn complete(&self, body: usize, force: DVec3, torque: DVec3) -> (DVec3, DVec3);
     /// Asks for what [`ForceSums::complete`] of `body` will read (a hint only).
     fn prefetch(&self, body: usize);
+    /// Whether the sums still need completing: false when the contact loop has done it.
+    fn needed(&self) -> bool;
 }
 
 /// What the last step left to the next [`kick_drift`]: its force sums (`sums`) and its closing
@@ -115,7 +117,7 @@ pub fn kick_drift<S: ForceSums>(
     let bounding_radius = &*bounding_radius;
     let stream_motion = motion::streams_motion(position.len());
     let (closing_kick, sums) = match closing {
-        Some(c) => (Some(c.kick), Some(c.sums)),
+        Some(c) => (Some(c.kick), Some(c.sums).filter(|s| s.needed())),
         None => (None, None),
     };
     position

@@ -115,11 +115,6 @@ pub(crate) fn end_streaming(stream: bool) {
     let _ = stream;
 }
 
-/// A step's working set in bytes per body: the bodies' arrays, their packed motion and the
-/// contact store's entries come to about a kilobyte a sphere in a settled bed (peak memory, with
-/// the program and the candidate list, is some 1.6 kB a sphere at 65,000).
-const STEP_BYTES_PER_BODY: usize = 1024;
-
 /// Whether a world of `bodies` bodies writes its packed motion by streaming stores ([`write`]):
 /// when its step's working set does not fit the last-level cache, so that the motion's lines have
 /// left the cache by the time the kick-drift writes them. Measured on the spheres' benchmark (one
@@ -128,7 +123,7 @@ const STEP_BYTES_PER_BODY: usize = 1024;
 /// at 65,000 and no gain at 10,000; with a 480 MB cache (an Intel Xeon), where the 65,000-sphere
 /// bed's step stays in the cache, streaming stores made the whole step 3 % slower.
 pub fn streams_motion(bodies: usize) -> bool {
-    bodies.saturating_mul(STEP_BYTES_PER_BODY) >= last_level_cache::bytes()
+    last_level_cache::outgrown_by(bodies)
 }
 
 /// Packs every body's motion as it is, for an evaluation outside the step (the first one, or

@@ -303,6 +303,14 @@ pub struct OwnSums<'a> {
 }
 
 impl OwnSums<'_> {
+    /// The same sums, borrowed for a shorter while.
+    pub(crate) fn reborrow(&mut self) -> OwnSums<'_> {
+        OwnSums {
+            force: self.force,
+            torque: self.torque,
+        }
+    }
+
     /// The bodies before `mid` and from `mid` on.
     pub(crate) fn split_at(self, mid: usize) -> (Self, Self) {
         let (force, force_rest) = self.force.split_at_mut(mid);
@@ -581,7 +589,8 @@ pub(crate) fn ended(history: &mut History, spin: Option<&mut SpinHistory>) -> Re
 }
 
 /// Completes the bodies' force and moment sums, which hold their own contacts' (as `a`, added by
-/// [`evaluate`]), with those of the contacts whose partner they are, in store order; then gives
+/// [`evaluate`]), with those of the contacts whose partner they are, in store order, unless the
+/// contact loop did (see `ContactStore::completes_sums`); then gives
 /// each body the step's closing half `kick`, if any, while its sums are at hand, and, given
 /// `ahead` (a share of a decomposed world), returns what it finds of the owned bodies' next move
 /// ([`Moves`]; [`Moves::NONE`] without it or without a kick).
@@ -592,6 +601,7 @@ pub fn accumulate(
     ahead: Option<Lookahead>,
 ) -> Moves {
     let sums = IncomingSums(store);
+    let needed = sums.needed();
     let Bodies {
         position,
         orientation,
@@ -619,12 +629,13 @@ pub fn accumulate(
         .fold(
             || Moves::NONE,
             |moves, (i, ((((force, torque), v), l), w))| {
-                if i + PREFETCH_AHEAD < count {
-                    sums.prefetch(i + PREFETCH_AHEAD);
+                if needed {
+                    if i + PREFETCH_AHEAD < count {
+                        sums.prefetch(i + PREFETCH_AHEAD);
+                    }
+                    (*force, *torque) = sums.complete(i, *force, *torque);
                 }
-                let (f, t) = sums.complete(i, *force, *torque);
-                *force = f;
-                *torque = t;
+                let (f, t) = (*force, *torque);
                 let Some(kick) = kick else {
                     return moves;
                 };
@@ -676,6 +687,10 @@ impl ForceSums for IncomingSums<'_> {
         for &e in self.0.incoming(body) {
             prefetch(&load[e as usize]);
         }
+    }
+
+    fn needed(&self) -> bool {
+        !self.0.completes_sums()
     }
 }
 

@@ -6,10 +6,12 @@
 //!    store (polyhedral pairs that may touch in several places first; spheres on mesh walls at
 //!    the start of each chunk of stage 3, then the rest);
 //! 3. [`forces::evaluate`] — the contact laws: force, moment and energy of every contact, and
-//!    each body's sum of its own contacts' loads;
-//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is,
-//!    and the closing half kick (in a share of a decomposed world, with the [`lookahead`] at the
-//!    bodies' next move); [`wall_loads`] the reactions on the walls.
+//!    each body's sum of its own contacts' loads (in a world that outgrows the last-level cache,
+//!    completed there with the contacts whose partner each body is, as soon as the chunks
+//!    writing them are done: `complete_sums`);
+//! 4. [`forces::accumulate`] — the sums completed with the contacts whose partner each body is
+//!    (unless stage 3 did), and the closing half kick (in a share of a decomposed world, with the
+//!    [`lookahead`] at the bodies' next move); [`wall_loads`] the reactions on the walls.
 //!
 //! Stages 2 and 3 run chunk by chunk over the store ([`detect_and_evaluate`]; a chunk holds the
 //! entries of whole bodies), so that a chunk's entries are still in cache when the laws read what
@@ -42,7 +44,7 @@ pub use wall_loads::{WallLoads, WallsNow};
 
 pub use forces::OwnSums;
 
-use crate::contact::{Chunks, ContactStore, StorePass};
+use crate::contact::{finish, Chunks, ContactStore, StorePass};
 use crate::math::DVec3;
 use std::ops::Range;
 
@@ -67,47 +69,89 @@ pub fn detect_and_evaluate(
         // No index lists yet, so no entries: no contact sums either.
         own.force.fill(DVec3::ZERO);
         own.torque.fill(DVec3::ZERO);
+        store.set_sums_completed(false);
         return 0.0;
     }
+    let completes_sums = chunks.complete_sums();
     debug_assert_eq!(chunks.bodies.last().copied(), Some(own.force.len() as u32));
-    evaluate_chunks(&laws, pass, own, chunks, 0..chunks.len(), partial, dt);
+    let range = ChunkRange {
+        chunks: 0..chunks.len(),
+        id: 0,
+    };
+    evaluate_chunks(&laws, pass, own, chunks, range, partial, dt);
+    store.set_sums_completed(completes_sums);
     partial.iter().sum()
 }
 
-/// [`forces::evaluate`] of the chunks `range` (whose entries are `pass`, whose bodies' sums are
-/// `own`, and whose dissipated energies go to `partial`), halved until one chunk is left, the
-/// halves in parallel.
+/// A range of the contact loop's chunks and its number in the loop's halving (see
+/// `contact::store::finish`).
+struct ChunkRange {
+    chunks: Range<usize>,
+    id: usize,
+}
+
+/// [`forces::evaluate`] of the chunks of `range` (whose entries are `pass`, whose bodies' sums
+/// are `own`, and whose dissipated energies go to `partial`), halved until one chunk is left, the
+/// halves in parallel; then, where the loop completes the sums, those of the bodies whose last
+/// loads the range wrote ([`complete_sums`]).
 fn evaluate_chunks(
     laws: &LawInputs,
-    pass: StorePass,
-    own: OwnSums,
+    mut pass: StorePass,
+    mut own: OwnSums,
     chunks: Chunks,
-    range: Range<usize>,
+    range: ChunkRange,
     partial: &mut [f64],
     dt: f64,
 ) {
-    if range.len() == 1 {
-        partial[0] = forces::evaluate(*laws, pass, own, (chunks, range.start), dt);
-        return;
+    let first = range.chunks.start;
+    if range.chunks.len() == 1 {
+        let (pass, own) = (pass.reborrow(), own.reborrow());
+        partial[0] = forces::evaluate(*laws, pass, own, (chunks, first), dt);
+    } else {
+        let mid = finish::split_point(&range.chunks);
+        let (left, right) = finish::halves(range.id, &range.chunks, mid);
+        let entries = chunks.first_entry(mid) - chunks.first_entry(first);
+        let bodies = (chunks.bodies[mid] - chunks.bodies[first]) as usize;
+        let (pass, pass_rest) = pass.reborrow().split_at(entries);
+        let (own, own_rest) = own.reborrow().split_at(bodies);
+        let (partial, partial_rest) = partial.split_at_mut(mid - first);
+        let (left, right) = (
+            ChunkRange {
+                chunks: first..mid,
+                id: left,
+            },
+            ChunkRange {
+                chunks: mid..range.chunks.end,
+                id: right,
+            },
+        );
+        rayon::join(
+            || evaluate_chunks(laws, pass, own, chunks, left, partial, dt),
+            || evaluate_chunks(laws, pass_rest, own_rest, chunks, right, partial_rest, dt),
+        );
     }
-    let mid = range.start + range.len() / 2;
-    let entries = chunks.first_entry(mid) - chunks.first_entry(range.start);
-    let bodies = (chunks.bodies[mid] - chunks.bodies[range.start]) as usize;
-    let (pass, pass_rest) = pass.split_at(entries);
-    let (own, own_rest) = own.split_at(bodies);
-    let (partial, partial_rest) = partial.split_at_mut(mid - range.start);
-    rayon::join(
-        || evaluate_chunks(laws, pass, own, chunks, range.start..mid, partial, dt),
-        || {
-            evaluate_chunks(
-                laws,
-                pass_rest,
-                own_rest,
-                chunks,
-                mid..range.end,
-                partial_rest,
-                dt,
-            )
-        },
-    );
+    complete_sums(&pass, &mut own, chunks, &range);
+}
+
+/// Completes the force and moment sums of the bodies whose last loads the chunks of `range`
+/// wrote (`pass` their entries, `own` their bodies' sums of their own contacts): each adds the
+/// loads of the entries whose partner it is, in the order of its incoming list (its partners'
+/// ids), so the same bits for any thread count and numbering, and as `IncomingSums` would. Here
+/// rather than in the pass over the bodies in a world that outgrows the last-level cache: the
+/// loads were written moments ago and are still in cache (in the 65,000-sphere bed, that pass
+/// waited on a miss per incoming load for a sixth of the step). In a smaller world the pass
+/// over the bodies finds them in cache anyway, and is the faster (docs/benchmarks.md).
+fn complete_sums(pass: &StorePass, own: &mut OwnSums, chunks: Chunks, range: &ChunkRange) {
+    let first_entry = chunks.first_entry(range.chunks.start);
+    let first_body = chunks.bodies[range.chunks.start] as usize;
+    for &b in chunks.finishing(range.id) {
+        let b = b as usize;
+        let (mut f, mut t) = (own.force[b - first_body], own.torque[b - first_body]);
+        for &e in chunks.incoming(b) {
+            let load = &pass.load[e as usize - first_entry];
+            f -= load.force;
+            t += load.torque_b;
+        }
+        (own.force[b - first_body], own.torque[b - first_body]) = (f, t);
+    }
 }

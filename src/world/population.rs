@@ -148,4 +148,12 @@ impl World {
     pub fn set_sort_interval(&mut self, steps: u64) {
         self.sort_interval = steps;
     }
+
+    /// Where the bodies' force sums are completed: in the contact loop (`Some(true)`), in the
+    /// pass over the bodies after it (`Some(false)`), or by the world's size against the
+    /// last-level cache (`None`, the default; see `contact::ContactStore::completes_sums`). The
+    /// results are the same bits; only the time differs.
+    pub fn set_sums_in_contact_loop(&mut self, choice: Option<bool>) {
+        self.contacts.set_sums_in_loop(choice);
+    }
 }

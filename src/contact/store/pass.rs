@@ -2,7 +2,7 @@
 //! into chunks of whole bodies, so that each chunk can add up its bodies' own contacts itself,
 //! and each chunk into runs, whose loads live in the loop's scratch until they are summed.
 
-use super::{ContactStore, EntryIds, EntryState, Persistent};
+use super::{finish, ContactStore, EntryIds, EntryState, Persistent};
 use crate::body::Bodies;
 use crate::contact::key::{ContactKey, PairKind};
 use crate::contact::load::{LawReport, OwnLoad, PartnerLoad};
@@ -52,6 +52,21 @@ fn side_run<T>(values: &mut [T], run: Range<usize>) -> &mut [T] {
 impl<'a> StorePass<'a> {
     pub fn len(&self) -> usize {
         self.key.len()
+    }
+
+    /// The same entries, borrowed for a shorter while.
+    pub fn reborrow(&mut self) -> StorePass<'_> {
+        StorePass {
+            key: self.key,
+            kind: self.kind,
+            touching: self.touching,
+            geometry: self.geometry,
+            volume: self.volume,
+            history: self.history,
+            spin: self.spin,
+            report: self.report,
+            load: self.load,
+        }
     }
 
     /// The entries before `mid` and from `mid` on.
@@ -191,6 +206,12 @@ pub(crate) struct Chunks<'a> {
     pub bodies: &'a [u32],
     pub own: &'a [u32],
     pub spheres_on_mesh: &'a [u32],
+    /// The bodies whose force sums are completed after each range of chunks (see
+    /// [`Chunks::finishing`]), and the entries whose partner each body is.
+    finishing_first: &'a [u32],
+    finishing: &'a [u32],
+    incoming_first: &'a [u32],
+    incoming: &'a [u32],
 }
 
 impl Chunks<'_> {
@@ -202,6 +223,27 @@ impl Chunks<'_> {
     /// The first entry of chunk `c` (`c` = [`Chunks::len`]: the end of the last).
     pub fn first_entry(&self, c: usize) -> usize {
         self.own[self.bodies[c] as usize] as usize
+    }
+
+    /// Whether the contact loop completes the bodies' force sums (see `ContactStore::completes_sums`).
+    pub fn complete_sums(&self) -> bool {
+        !self.finishing_first.is_empty()
+    }
+
+    /// The bodies whose force sums are complete once the chunks of the contact loop's range
+    /// numbered `range` are done (see `contact::store::finish`); none where the loop leaves the
+    /// sums to the bodies' pass.
+    pub fn finishing(&self, range: usize) -> &[u32] {
+        if self.finishing_first.is_empty() {
+            return &[];
+        }
+        let (first, end) = (self.finishing_first[range], self.finishing_first[range + 1]);
+        &self.finishing[first as usize..end as usize]
+    }
+
+    /// The entries whose partner body `b` is, in the order their loads are added up.
+    pub fn incoming(&self, b: usize) -> &[u32] {
+        &self.incoming[self.incoming_first[b] as usize..self.incoming_first[b + 1] as usize]
     }
 
     /// The spheres on mesh walls whose entries are in chunk `c`: indices into
@@ -237,7 +279,7 @@ impl ContactStore {
     pub(crate) fn pass_mut(&mut self) -> (StorePass<'_>, Chunks<'_>) {
         // The chunks are not kept in checkpoints.
         if self.chunks.is_empty() && !self.own.is_empty() {
-            chunk_bodies(&self.own, &mut self.chunks);
+            self.make_chunks();
         }
         debug_assert!(
             self.entries.key.is_empty() || !self.own.is_empty(),
@@ -254,8 +296,35 @@ impl ContactStore {
                 bodies: &self.chunks,
                 own: &self.own,
                 spheres_on_mesh: &self.spheres_on_mesh,
+                finishing_first: &self.finishing_first,
+                finishing: &self.finishing,
+                incoming_first: &self.incoming_first,
+                incoming: &self.incoming,
             },
         )
+    }
+
+    /// The chunks of the contact loop from the bodies' first entries, and the bodies whose sums
+    /// each range of them completes.
+    pub(super) fn make_chunks(&mut self) {
+        chunk_bodies(&self.own, &mut self.chunks);
+        let bodies = self.own.len().saturating_sub(1);
+        let in_loop = self
+            .sums_in_loop
+            .unwrap_or_else(|| crate::integrate::last_level_cache::outgrown_by(bodies));
+        if !in_loop {
+            self.finishing_first.clear();
+            self.finishing.clear();
+            return;
+        }
+        let keys = &self.entries.key;
+        let layout = finish::Layout {
+            chunk_bodies: &self.chunks,
+            incoming_first: &self.incoming_first,
+            incoming: &self.incoming,
+            a_of_entry: &|e| keys[e].a as usize,
+        };
+        finish::finish_lists(&layout, &mut self.finishing_first, &mut self.finishing);
     }
 
     /// Every entry, as [`ContactStore::pass_mut`] gives them (without the chunks).
