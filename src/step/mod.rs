@@ -72,7 +72,7 @@ pub fn detect_and_evaluate(
         store.set_sums_completed(false);
         return 0.0;
     }
-    let completes_sums = chunks.complete_sums();
+    let completes_sums = chunks.completes_sums();
     debug_assert_eq!(chunks.bodies.last().copied(), Some(own.force.len() as u32));
     let range = ChunkRange {
         chunks: 0..chunks.len(),

@@ -226,7 +226,7 @@ impl Chunks<'_> {
     }
 
     /// Whether the contact loop completes the bodies' force sums (see `ContactStore::completes_sums`).
-    pub fn complete_sums(&self) -> bool {
+    pub fn completes_sums(&self) -> bool {
         !self.finishing_first.is_empty()
     }
 
