@@ -99,6 +99,31 @@ pub struct ClipScratch {
     /// Parts of A's edges inside B, of B's edges inside A (`vertex_penetration`).
     pub(crate) segments_a: Vec<[DVec3; 2]>,
     pub(crate) segments_b: Vec<[DVec3; 2]>,
+    /// Working memory of the depth integrals over the boundary polygons ([`boundary_sums`]).
+    pub(crate) depth: DepthScratch,
+}
+
+/// Working memory of [`depth_integrals`]: the planes that can give the depth somewhere on a
+/// polygon, and the ping-pong buffers of its pieces. Three allocations per boundary polygon
+/// when they were made afresh each time (a few per cent of a bed of cubes' step).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct DepthScratch {
+    candidates: Vec<usize>,
+    piece: Vec<DVec3>,
+    spare: Vec<DVec3>,
+}
+
+/// Polyhedra with more faces than this together have their common box narrowed to the parts of
+/// each inside the other's before the faces are clipped ([`ClipScratch::clip_pair`]). Measured on
+/// 1,000 bodies settling (`polydem bench scene bench/cubes_1k.toml`, and the same with random
+/// rocks): the narrowing cost a cube pair (12 faces) 23 % of its step and a pair of 16-vertex
+/// rocks (56 faces) 12 %, and gained nothing on 64-vertex rocks (248 faces); it is kept for the
+/// larger shapes, where it leaves a few faces and planes of many (docs/benchmarks.md).
+const NARROWING_FACES: usize = 256;
+
+/// Whether the pair of `a` and `b` has its common box narrowed ([`NARROWING_FACES`]).
+pub(crate) fn narrows(a: &ConvexPolyhedron, b: &ConvexPolyhedron) -> bool {
+    a.faces().len() + b.faces().len() > NARROWING_FACES
 }
 
 impl ClipScratch {
@@ -125,17 +150,24 @@ impl ClipScratch {
     /// A ∩ B lies in a box J, so each face is first cut to J (a face part inside B is inside J),
     /// and then only by the planes that pass through J: a plane with all of J more than
     /// `tolerance` behind it cannot cut a polygon inside J. Faces with all corners beyond one side
-    /// of J are skipped at once. J is the box common to both bodies' bounding boxes (I), narrowed
-    /// to the boxes of A ∩ I and of B ∩ I. For a slight overlap of large polyhedra this leaves a
-    /// few faces and a few planes.
-    pub(crate) fn clip_pair(&mut self, a: &ConvexPolyhedron, b: &ConvexPolyhedron, tolerance: f64) {
+    /// of J are skipped at once. J is the box common to both bodies' bounding boxes (I); with
+    /// `narrow` (polyhedra with many faces, see [`narrows`]), narrowed to the boxes of A ∩ I and of
+    /// B ∩ I, which for a slight overlap leaves a few faces and a few planes of many (for fewer
+    /// faces, finding the narrower box cost more than it saved).
+    pub(crate) fn clip_pair(
+        &mut self,
+        a: &ConvexPolyhedron,
+        b: &ConvexPolyhedron,
+        tolerance: f64,
+        narrow: bool,
+    ) {
         self.points.clear();
         self.polygons.clear();
         let (mut lo, mut hi) = (self.a.lo.max(self.b.lo), self.a.hi.min(self.b.hi));
         if lo.cmpgt(hi).any() {
             return;
         }
-        for (shape, own) in [(a, &self.a), (b, &self.b)] {
+        for (shape, own) in [(a, &self.a), (b, &self.b)].into_iter().filter(|_| narrow) {
             let (plo, phi) = box_of_part_in_box(
                 shape,
                 own,
@@ -445,7 +477,13 @@ pub(crate) struct Winkler {
 /// one plane gives the minimum: the polygon is cut into those pieces (by the planes' bisectors)
 /// and each linear piece integrated exactly over a fan of triangles, using
 /// ∫ φ x dA = A/12 (Σ φᵢ xᵢ + Σ φᵢ Σ xᵢ) on a triangle.
-fn depth_integrals(corners: &[DVec3], r: DVec3, normal: DVec3, planes: &[Plane]) -> (f64, DVec3) {
+fn depth_integrals(
+    corners: &[DVec3],
+    r: DVec3,
+    normal: DVec3,
+    planes: &[Plane],
+    scratch: &mut DepthScratch,
+) -> (f64, DVec3) {
     let depth = |p: &Plane, x: DVec3| -p.distance(x);
     // A plane can be the minimum somewhere on the polygon only if its smallest depth over the
     // corners (a linear function's minimum) is below the largest depth the minimum reaches,
@@ -459,25 +497,26 @@ fn depth_integrals(corners: &[DVec3], r: DVec3, normal: DVec3, planes: &[Plane])
                 .fold(f64::NEG_INFINITY, f64::max)
         })
         .fold(f64::INFINITY, f64::min);
-    let candidates: Vec<&Plane> = planes
-        .iter()
-        .filter(|p| {
-            corners
-                .iter()
-                .map(|&x| depth(p, x))
-                .fold(f64::INFINITY, f64::min)
-                <= bound
-        })
-        .collect();
+    let DepthScratch {
+        candidates,
+        piece,
+        spare,
+    } = scratch;
+    candidates.clear();
+    candidates.extend((0..planes.len()).filter(|&k| {
+        corners
+            .iter()
+            .map(|&x| depth(&planes[k], x))
+            .fold(f64::INFINITY, f64::min)
+            <= bound
+    }));
     let (mut phi_area, mut phi_moment) = (0.0, DVec3::ZERO);
-    let mut piece: Vec<DVec3> = Vec::with_capacity(corners.len() + 4);
-    let mut spare: Vec<DVec3> = Vec::with_capacity(corners.len() + 4);
-    for (i, f) in candidates.iter().enumerate() {
+    for (i, f) in candidates.iter().map(|&k| &planes[k]).enumerate() {
         piece.clear();
         piece.extend_from_slice(corners);
         // Where f is the minimum: depth_f ≤ depth_g for every other candidate (ties to the
         // first, so shared boundaries are counted once).
-        for (j, g) in candidates.iter().enumerate() {
+        for (j, g) in candidates.iter().map(|&k| &planes[k]).enumerate() {
             if i == j || piece.len() < 3 {
                 continue;
             }
@@ -501,7 +540,7 @@ fn depth_integrals(corners: &[DVec3], r: DVec3, normal: DVec3, planes: &[Plane])
                     spare.push(a + (b - a) * (da / (da - db)));
                 }
             }
-            std::mem::swap(&mut piece, &mut spare);
+            std::mem::swap(piece, spare);
         }
         if piece.len() < 3 {
             continue;
@@ -528,6 +567,7 @@ pub(crate) fn boundary_sums(
     polygons: &[ClippedPolygon],
     planes_a: &[Plane],
     planes_b: &[Plane],
+    scratch: &mut DepthScratch,
 ) -> BoundarySums {
     let mut sums = BoundarySums::default();
     if points.is_empty() {
@@ -551,7 +591,7 @@ pub(crate) fn boundary_sums(
             moment += six_v * (p0 + p1 + p2);
             doubled_area += (p1 - p0).cross(p2 - p0);
         }
-        let (phi_area, phi_moment) = depth_integrals(corners, r, poly.normal, other);
+        let (phi_area, phi_moment) = depth_integrals(corners, r, poly.normal, other, scratch);
         let sign = if poly.from_a { -0.5 } else { 0.5 };
         load += sign * phi_area * poly.normal;
         couple_about_r += sign * phi_moment.cross(poly.normal);
