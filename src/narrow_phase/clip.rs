@@ -167,19 +167,21 @@ impl ClipScratch {
         if lo.cmpgt(hi).any() {
             return;
         }
-        for (shape, own) in [(a, &self.a), (b, &self.b)].into_iter().filter(|_| narrow) {
-            let (plo, phi) = box_of_part_in_box(
-                shape,
-                own,
-                (lo, hi),
-                &mut self.outcodes,
-                &mut self.polygon,
-                &mut self.spare,
-                tolerance,
-            );
-            (lo, hi) = (lo.max(plo), hi.min(phi));
-            if lo.cmpgt(hi).any() {
-                return;
+        if narrow {
+            for (shape, own) in [(a, &self.a), (b, &self.b)] {
+                let (plo, phi) = box_of_part_in_box(
+                    shape,
+                    own,
+                    (lo, hi),
+                    &mut self.outcodes,
+                    &mut self.polygon,
+                    &mut self.spare,
+                    tolerance,
+                );
+                (lo, hi) = (lo.max(plo), hi.min(phi));
+                if lo.cmpgt(hi).any() {
+                    return;
+                }
             }
         }
         let (centre, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
