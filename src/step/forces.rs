@@ -7,7 +7,7 @@
 use crate::body::Bodies;
 use crate::contact::{
     Chunks, ContactKey, ContactStore, EntryIds, EntryState, LawReport, Load, OwnLoad, PairKind,
-    Partner, StorePass,
+    Partner, PartnerLoad, StorePass,
 };
 use crate::contact_law::{
     self, DashpotLimit, History, Kinematics, OverlapVolume, Response, SpinHistory,
@@ -672,13 +672,8 @@ impl ForceSums for IncomingSums<'_> {
         // more than the addition): a sum that starts at +0 stays bit for bit the same when ±0
         // is added.
         let load = self.0.loads();
-        let (mut f, mut t) = (force, torque);
-        for &e in self.0.incoming(body) {
-            let e = e as usize;
-            f -= load[e].force;
-            t += load[e].torque_b;
-        }
-        (f, t)
+        let incoming = self.0.incoming(body).iter().map(|&e| &load[e as usize]);
+        add_incoming((force, torque), incoming)
     }
 
     #[inline(always)]
@@ -692,6 +687,22 @@ impl ForceSums for IncomingSums<'_> {
     fn needed(&self) -> bool {
         !self.0.completes_sums()
     }
+}
+
+/// A body's force and moment `sums` of its own contacts completed with the `loads` of the
+/// entries whose partner it is, in the order given: one rule, so that the pass over the bodies
+/// ([`IncomingSums`]) and the contact loop (`step::complete_sums`) give the same bits.
+#[inline(always)]
+pub(crate) fn add_incoming<'a>(
+    sums: (DVec3, DVec3),
+    loads: impl Iterator<Item = &'a PartnerLoad>,
+) -> (DVec3, DVec3) {
+    let (mut f, mut t) = sums;
+    for load in loads {
+        f -= load.force;
+        t += load.torque_b;
+    }
+    (f, t)
 }
 
 /// Relative motion at a contact, from the relative velocities of the contact points; the dashpots'

@@ -145,13 +145,9 @@ fn complete_sums(pass: &StorePass, own: &mut OwnSums, chunks: Chunks, range: &Ch
     let first_entry = chunks.first_entry(range.chunks.start);
     let first_body = chunks.bodies[range.chunks.start] as usize;
     for &b in chunks.finishing(range.id) {
-        let b = b as usize;
-        let (mut f, mut t) = (own.force[b - first_body], own.torque[b - first_body]);
-        for &e in chunks.incoming(b) {
-            let load = &pass.load[e as usize - first_entry];
-            f -= load.force;
-            t += load.torque_b;
-        }
-        (own.force[b - first_body], own.torque[b - first_body]) = (f, t);
+        let i = b as usize - first_body;
+        let incoming = chunks.incoming(b as usize).iter();
+        let loads = incoming.map(|&e| &pass.load[e as usize - first_entry]);
+        (own.force[i], own.torque[i]) = forces::add_incoming((own.force[i], own.torque[i]), loads);
     }
 }
